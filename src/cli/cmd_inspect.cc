@@ -1,0 +1,134 @@
+// `hdribr inspect WORKSPACE`: summary and validation of a workspace.
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/command.h"
+#include "io/workspace.h"
+
+namespace hdribr::cli {
+namespace {
+
+struct InspectOptions {
+  std::string workspace;
+  bool json = false;
+};
+
+std::string FormatExposure(const Exposure& e) {
+  std::string s;
+  char buf[64];
+  if (e.time_s) {
+    if (*e.time_s < 1.0) {
+      std::snprintf(buf, sizeof(buf), "1/%.0f s", 1.0 / *e.time_s);
+    } else {
+      std::snprintf(buf, sizeof(buf), "%.3g s", *e.time_s);
+    }
+    s += buf;
+  } else {
+    s += "time ?";
+  }
+  std::snprintf(buf, sizeof(buf), " ISO %s f/%s", e.iso ? std::to_string(int(*e.iso)).c_str() : "?",
+                e.f_number ? std::to_string(*e.f_number).substr(0, 4).c_str() : "?");
+  return s + buf;
+}
+
+std::string Attributes(const PointCloud& pc) {
+  std::string s;
+  auto add = [&](bool has, const char* name) {
+    if (!has) return;
+    if (!s.empty()) s += ", ";
+    s += name;
+  };
+  add(pc.HasNormals(), "normals");
+  add(pc.HasColors(), "colours");
+  add(pc.HasRadii(), "radii");
+  return s.empty() ? "positions only" : s;
+}
+
+nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+int Run(const InspectOptions& opt) {
+  const WorkspaceLayout layout = DetectWorkspace(opt.workspace);
+  const Scene scene = LoadWorkspace(opt.workspace);
+  const std::vector<std::string> problems = ValidateScene(scene);
+
+  if (opt.json) {
+    nlohmann::json j;
+    j["workspace"] = scene.workspace.string();
+    j["layout"] = layout.kind;
+    j["cameras"] = nlohmann::json::array();
+    for (const auto& [id, c] : scene.cameras) {
+      j["cameras"].push_back({{"id", id},
+                              {"model", CameraModelName(c.model)},
+                              {"width", c.width},
+                              {"height", c.height},
+                              {"params", c.params}});
+    }
+    j["series"] = nlohmann::json::array();
+    for (const auto& s : scene.series) {
+      nlohmann::json names = nlohmann::json::array();
+      for (int i : s.photo_indices) names.push_back(scene.photos[i].name);
+      j["series"].push_back({{"name", s.name},
+                             {"relative_exposure", s.relative_exposure},
+                             {"ev", std::log2(s.relative_exposure)},
+                             {"photos", names}});
+    }
+    j["num_photos"] = scene.photos.size();
+    j["points"] = {{"count", scene.points.size()},
+                   {"normals", scene.points.HasNormals()},
+                   {"colors", scene.points.HasColors()},
+                   {"radii", scene.points.HasRadii()}};
+    if (scene.point_bounds.valid) {
+      j["bounds"] = {{"min", Vec(scene.point_bounds.min)}, {"max", Vec(scene.point_bounds.max)}};
+    }
+    j["centroid"] = Vec(scene.centroid);
+    j["scene_scale"] = scene.scene_scale;
+    j["problems"] = problems;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("workspace    %s (%s layout)\n", scene.workspace.c_str(), layout.kind.c_str());
+    std::printf("cameras      %zu\n", scene.cameras.size());
+    for (const auto& [id, c] : scene.cameras) {
+      std::printf("  camera %-4d %s %dx%d  fx %.1f fy %.1f cx %.1f cy %.1f  (fov %.1f deg)\n", id,
+                  CameraModelName(c.model).c_str(), c.width, c.height, c.fx(), c.fy(), c.cx(),
+                  c.cy(), c.FovX() * 180.0 / M_PI);
+    }
+    std::printf("photos       %zu in %zu exposure series\n", scene.photos.size(),
+                scene.series.size());
+    for (const auto& s : scene.series) {
+      const Photo& first = scene.photos[s.photo_indices.front()];
+      std::printf("  %-10s %3zu photos  relative exposure %.4g (%+.2f EV)  e.g. %s: %s\n",
+                  s.name.c_str(), s.photo_indices.size(), s.relative_exposure,
+                  std::log2(s.relative_exposure), first.name.c_str(),
+                  FormatExposure(first.exposure).c_str());
+    }
+    std::printf("points       %zu (%s)\n", scene.points.size(), Attributes(scene.points).c_str());
+    if (scene.point_bounds.valid) {
+      const auto& b = scene.point_bounds;
+      std::printf("bounds       (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f)  diagonal %.3f\n",
+                  b.min.x(), b.min.y(), b.min.z(), b.max.x(), b.max.y(), b.max.z(),
+                  b.Diagonal());
+    }
+    std::printf("scene scale  %.4f (median camera-to-centroid distance; unit of relative "
+                "thresholds)\n",
+                scene.scene_scale);
+    std::printf("problems     %zu\n", problems.size());
+  }
+  for (const auto& p : problems) std::fprintf(stderr, "problem: %s\n", p.c_str());
+  return problems.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+CommandRunner SetupInspect(CLI::App& sub) {
+  auto opt = std::make_shared<InspectOptions>();
+  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  sub.add_flag("--json", opt->json, "Print JSON instead of text");
+  return [opt] { return Run(*opt); };
+}
+
+}  // namespace hdribr::cli

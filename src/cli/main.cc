@@ -1,0 +1,62 @@
+// hdribr: point-cloud HDR image-based rendering. A table of subcommands (see command.h).
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+#include "cli/command.h"
+#include "core/error.h"
+
+namespace {
+
+using hdribr::cli::CommandEntry;
+
+const std::vector<CommandEntry>& Commands() {
+  static const std::vector<CommandEntry> table = {
+      {"inspect", "Summarise and validate a workspace", &hdribr::cli::SetupInspect},
+  };
+  return table;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"hdribr: point-cloud HDR image-based rendering"};
+  app.require_subcommand(1);
+  bool verbose = false;
+  bool quiet = false;
+  app.add_flag("-v,--verbose", verbose, "Debug logging");
+  app.add_flag("-q,--quiet", quiet, "Warnings and errors only");
+  app.set_version_flag("--version", "hdribr 0.1.0");
+
+  std::vector<std::pair<CLI::App*, hdribr::cli::CommandRunner>> runners;
+  for (const auto& entry : Commands()) {
+    CLI::App* sub = app.add_subcommand(entry.name, entry.help);
+    runners.emplace_back(sub, entry.setup(*sub));
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  spdlog::set_pattern("[%H:%M:%S.%e] %^%l%$ %v");
+  spdlog::set_level(verbose ? spdlog::level::debug
+                            : (quiet ? spdlog::level::warn : spdlog::level::info));
+  try {
+    for (auto& [sub, run] : runners) {
+      if (sub->parsed()) return run();
+    }
+  } catch (const hdribr::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const hdribr::UsageError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 64;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 1;
+}

@@ -1,0 +1,37 @@
+// Everything loaded from a workspace: cameras, photos in exposure series, the point cloud.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/exposure_series.h"
+#include "core/photo.h"
+#include "core/point_cloud.h"
+
+namespace hdribr {
+
+struct Scene {
+  std::filesystem::path workspace;
+  std::map<int, Camera> cameras;        // by COLMAP camera id
+  std::vector<Photo> photos;            // in COLMAP image-id order
+  std::vector<ExposureSeries> series;   // darkest first
+  PointCloud points;
+
+  // Derived by UpdateDerived().
+  Bounds point_bounds;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the points (cameras if none)
+  // Median camera-to-centroid distance: the unit for every scene-relative threshold
+  // (occlusion tolerance, blending distance term), since SfM's scale is arbitrary.
+  double scene_scale = 1.0;
+
+  const Camera& CameraOf(const Photo& photo) const { return cameras.at(photo.camera_id); }
+  // Index of the photo with this name, or -1.
+  int FindPhoto(const std::string& name) const;
+  // Recomputes bounds, centroid and scene scale.
+  void UpdateDerived();
+};
+
+}  // namespace hdribr

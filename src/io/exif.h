@@ -1,0 +1,26 @@
+// EXIF exposure metadata through exiv2.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "core/photo.h"
+
+namespace hdribr {
+
+struct ExifInfo {
+  Exposure exposure;               // fields absent from the file stay empty
+  std::optional<int> orientation;  // EXIF Orientation tag (1 = normal, 6 = rotate 90 CW)
+  std::string make;
+  std::string model;
+};
+
+// Reads EXIF; a file without EXIF gives an empty ExifInfo (callers warn). Throws InputError for
+// a missing or unreadable file.
+ExifInfo ReadExif(const std::filesystem::path& path);
+// Writes exposure time, ISO, f-number and focal length (the fields that are set) plus make and
+// model into an existing JPEG, in place (for files this program is creating).
+void WriteExif(const std::filesystem::path& path, const ExifInfo& info);
+
+}  // namespace hdribr

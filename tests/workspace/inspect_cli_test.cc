@@ -1,0 +1,62 @@
+// `hdribr inspect` end to end: text and JSON output, exit codes, one-line errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+#include "workspace/workspace_fixture.h"
+
+namespace hdribr {
+namespace {
+namespace fs = std::filesystem;
+
+std::string Exe() { return HDRIBR_EXE; }
+
+TEST(InspectCli, PrintsSummaryAndJson) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir);
+  const auto text = test::RunCommand(Exe() + " inspect " + dir.string());
+  EXPECT_EQ(text.exit_code, 0) << text.output;
+  EXPECT_NE(text.output.find("4 in 2 exposure series"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("200 (normals, radii)"), std::string::npos) << text.output;
+
+  const auto js = test::RunCommand(Exe() + " -q inspect --json " + dir.string());
+  ASSERT_EQ(js.exit_code, 0) << js.output;
+  const auto j = nlohmann::json::parse(js.output);
+  EXPECT_EQ(j["num_photos"], 4);
+  EXPECT_EQ(j["series"].size(), 2u);
+  EXPECT_EQ(j["points"]["count"], 200);
+  EXPECT_GT(j["scene_scale"].get<double>(), 0.0);
+  EXPECT_TRUE(j["problems"].empty());
+}
+
+TEST(InspectCli, ProblemsGiveNonZeroExitAndOneLineEach) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir);
+  fs::remove(dir / "images" / "p3.jpg");
+  const auto r = test::RunCommand(Exe() + " inspect " + dir.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("problem: " + (dir / "images" / "p3.jpg").string() +
+                          ": photo file is missing"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(InspectCli, BadInputIsOneClearLine) {
+  const fs::path dir = test::TempDir();
+  const auto r = test::RunCommand(Exe() + " inspect " + (dir / "missing").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.output, "error: " + (dir / "missing").string() + ": no such workspace folder\n");
+
+  test::MakeWorkspace(dir / "ws");
+  std::ofstream(dir / "ws" / "sparse" / "images.txt", std::ios::trunc) << "1 nan 0 0 0 0 0 0 3 p0.jpg\n\n";
+  const auto nan = test::RunCommand(Exe() + " inspect " + (dir / "ws").string());
+  EXPECT_EQ(nan.exit_code, 2) << nan.output;
+  EXPECT_NE(nan.output.find("images.txt"), std::string::npos) << nan.output;
+  EXPECT_EQ(std::count(nan.output.begin(), nan.output.end(), '\n'), 1) << nan.output;
+}
+
+}  // namespace
+}  // namespace hdribr

@@ -1,0 +1,137 @@
+#include "io/workspace.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <opencv2/core.hpp>
+
+#include "core/error.h"
+#include "io/image.h"
+#include "io/series_json.h"
+#include "test_util.h"
+#include "workspace/workspace_fixture.h"
+
+namespace hdribr {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(Workspace, LoadsFixture) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir);
+  const WorkspaceLayout layout = DetectWorkspace(dir);
+  EXPECT_EQ(layout.kind, "hdribr");
+  const Scene scene = LoadWorkspace(dir);
+  ASSERT_EQ(scene.photos.size(), 4u);
+  EXPECT_EQ(scene.photos[0].id, 2);
+  EXPECT_EQ(scene.photos[3].id, 11);
+  EXPECT_EQ(scene.cameras.size(), 2u);
+  ASSERT_EQ(scene.series.size(), 2u);
+  EXPECT_NEAR(scene.series[1].relative_exposure / scene.series[0].relative_exposure, 4.0, 1e-9);
+  EXPECT_EQ(scene.photos[1].series_id, 1);
+  EXPECT_EQ(scene.points.size(), 200u);
+  EXPECT_TRUE(scene.points.HasNormals());
+  EXPECT_TRUE(scene.points.HasRadii());
+  EXPECT_NEAR(scene.scene_scale, 3.0, 0.15);
+  EXPECT_TRUE(ValidateScene(scene).empty());
+}
+
+TEST(Workspace, GroupsFromExifWithoutSeriesJson) {
+  const fs::path dir = test::TempDir();
+  test::FixtureOptions opt;
+  opt.write_series_json = false;
+  test::MakeWorkspace(dir, opt);
+  const Scene scene = LoadWorkspace(dir);
+  ASSERT_EQ(scene.series.size(), 2u);
+  EXPECT_EQ(scene.series[0].photo_indices, std::vector<int>({0, 2}));
+  EXPECT_DOUBLE_EQ(*scene.photos[1].exposure.time_s, 1.0 / 25);
+}
+
+TEST(Workspace, SparsePointsUsedWithoutPly) {
+  const fs::path dir = test::TempDir();
+  test::FixtureOptions opt;
+  opt.write_points_ply = false;
+  test::MakeWorkspace(dir, opt);
+  const Scene scene = LoadWorkspace(dir);
+  EXPECT_TRUE(scene.points.empty());
+  const auto problems = ValidateScene(scene);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("no points"), std::string::npos);
+}
+
+TEST(Workspace, DistortedCameraIsRefusedWithHint) {
+  const fs::path dir = test::TempDir();
+  test::FixtureOptions opt;
+  opt.distorted_camera = true;
+  test::MakeWorkspace(dir, opt);
+  try {
+    LoadWorkspace(dir);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("image_undistorter"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sparse"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Workspace, ValidationFindsMissingAndMisSizedPhotos) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir);
+  fs::remove(dir / "images" / "p1.jpg");
+  WriteImage(dir / "images" / "p2.jpg", cv::Mat(10, 10, CV_8UC3, cv::Scalar(1, 2, 3)));
+  const Scene scene = LoadWorkspace(dir);
+  const auto problems = ValidateScene(scene);
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_NE(problems[0].find("p1.jpg: photo file is missing"), std::string::npos);
+  EXPECT_NE(problems[1].find("p2.jpg: image is 10x10 but camera 7 is 80x60"), std::string::npos);
+}
+
+TEST(Workspace, MissingFolderAndEmptyFolderAreClearErrors) {
+  const fs::path dir = test::TempDir();
+  EXPECT_THROW(DetectWorkspace(dir / "nope"), InputError);
+  try {
+    DetectWorkspace(dir);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no COLMAP model"), std::string::npos);
+  }
+}
+
+TEST(SeriesJson, RoundTripAndBadInput) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir);
+  Scene scene = LoadWorkspace(dir);
+  const fs::path copy = dir / "copy.json";
+  WriteSeriesJson(copy, scene.series, scene.photos);
+  std::vector<Photo> photos = scene.photos;
+  const auto again = ReadSeriesJson(copy, photos);
+  ASSERT_EQ(again.size(), scene.series.size());
+  for (size_t i = 0; i < again.size(); ++i) {
+    EXPECT_EQ(again[i].photo_indices, scene.series[i].photo_indices);
+    EXPECT_NEAR(again[i].relative_exposure, scene.series[i].relative_exposure, 1e-12);
+  }
+
+  auto expect_error = [&](const std::string& text, const std::string& needle) {
+    const fs::path bad = dir / "bad.json";
+    std::ofstream(bad) << text;
+    std::vector<Photo> ph = scene.photos;
+    try {
+      ReadSeriesJson(bad, ph);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+    }
+  };
+  expect_error("{not json", "invalid JSON");
+  expect_error(R"({"series": [{"photos": ["nope.jpg"]}]})", "unknown photo 'nope.jpg'");
+  expect_error(R"({"series": [{"photos": ["p0.jpg","p1.jpg","p2.jpg"]},
+                              {"photos": ["p3.jpg","p0.jpg"]}]})",
+               "listed in two series");
+  expect_error(R"({"series": [{"photos": ["p0.jpg","p1.jpg","p2.jpg"]}]})",
+               "'p3.jpg' is in no series");
+  expect_error(R"({"series": [{"photos": ["p0.jpg","p1.jpg","p2.jpg","p3.jpg"],
+                               "relative_exposure": -1}]})",
+               "positive");
+}
+
+}  // namespace
+}  // namespace hdribr
