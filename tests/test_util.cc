@@ -1,8 +1,8 @@
 #include "test_util.h"
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
-#include <sys/wait.h>
 
 namespace hdribr::test {
 namespace fs = std::filesystem;

@@ -25,5 +25,6 @@ CommandResult RunCommand(const std::string& command_line);
 // Skips the current test with a clear message when a shared dataset is absent.
 #define HDRIBR_REQUIRE_DATASET(var, name)                                              \
   const std::filesystem::path var = ::hdribr::test::SharedDataset(name);               \
-  if (var.empty()) GTEST_SKIP() << "shared dataset '" << name << "' is absent at "     \
-                                << HDRIBR_SHARED_DIR << "/datasets: skipping"
+  if (var.empty())                                                                     \
+  GTEST_SKIP() << "shared dataset '" << name << "' is absent at " << HDRIBR_SHARED_DIR \
+               << "/datasets: skipping"

@@ -110,12 +110,12 @@ int Run(const InspectOptions& opt) {
     if (scene.point_bounds.valid) {
       const auto& b = scene.point_bounds;
       std::printf("bounds       (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f)  diagonal %.3f\n",
-                  b.min.x(), b.min.y(), b.min.z(), b.max.x(), b.max.y(), b.max.z(),
-                  b.Diagonal());
+                  b.min.x(), b.min.y(), b.min.z(), b.max.x(), b.max.y(), b.max.z(), b.Diagonal());
     }
-    std::printf("scene scale  %.4f (median camera-to-centroid distance; unit of relative "
-                "thresholds)\n",
-                scene.scene_scale);
+    std::printf(
+        "scene scale  %.4f (median camera-to-centroid distance; unit of relative "
+        "thresholds)\n",
+        scene.scene_scale);
     std::printf("problems     %zu\n", problems.size());
   }
   for (const auto& p : problems) std::fprintf(stderr, "problem: %s\n", p.c_str());
@@ -123,6 +123,9 @@ int Run(const InspectOptions& opt) {
 }
 
 }  // namespace
+
+CommandRunner SetupInspect(CLI::App& sub);
+HDRIBR_COMMAND(inspect, "Summarise and validate a workspace", SetupInspect, 20);
 
 CommandRunner SetupInspect(CLI::App& sub) {
   auto opt = std::make_shared<InspectOptions>();

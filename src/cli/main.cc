@@ -2,25 +2,34 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <string>
 #include <vector>
 
 #include "cli/command.h"
 #include "core/error.h"
 
-namespace {
+namespace {}  // namespace
 
-using hdribr::cli::CommandEntry;
+namespace hdribr::cli {
 
-const std::vector<CommandEntry>& Commands() {
-  static const std::vector<CommandEntry> table = {
-      {"inspect", "Summarise and validate a workspace", &hdribr::cli::SetupInspect},
-  };
+std::vector<CommandEntry>& CommandTable() {
+  static std::vector<CommandEntry> table;
   return table;
 }
 
-}  // namespace
+CommandRegistrar::CommandRegistrar(const char* name, const char* help, CommandSetup setup,
+                                   int order) {
+  auto& table = CommandTable();
+  table.push_back({name, help, setup, order});
+  std::sort(table.begin(), table.end(), [](const CommandEntry& a, const CommandEntry& b) {
+    return a.order != b.order ? a.order < b.order : std::string(a.name) < b.name;
+  });
+}
+
+}  // namespace hdribr::cli
 
 int main(int argc, char** argv) {
   CLI::App app{"hdribr: point-cloud HDR image-based rendering"};
@@ -32,7 +41,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "hdribr 0.1.0");
 
   std::vector<std::pair<CLI::App*, hdribr::cli::CommandRunner>> runners;
-  for (const auto& entry : Commands()) {
+  for (const auto& entry : hdribr::cli::CommandTable()) {
     CLI::App* sub = app.add_subcommand(entry.name, entry.help);
     runners.emplace_back(sub, entry.setup(*sub));
   }

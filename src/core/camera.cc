@@ -54,8 +54,7 @@ CameraModel CameraModelFromId(int id) {
 
 int CameraModelNumParams(CameraModel model) { return Info(model).num_params; }
 
-Camera Camera::Pinhole(int id, int width, int height, double fx, double fy, double cx,
-                       double cy) {
+Camera Camera::Pinhole(int id, int width, int height, double fx, double fy, double cx, double cy) {
   Camera c;
   c.id = id;
   c.model = CameraModel::kPinhole;

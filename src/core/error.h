@@ -25,11 +25,11 @@ class UsageError : public std::runtime_error {
 }  // namespace hdribr
 
 // Aborts with file:line when a programmer invariant is violated (never for user input).
-#define HDRIBR_CHECK(cond)                                          \
-  do {                                                              \
+#define HDRIBR_CHECK(cond)                                             \
+  do {                                                                 \
     if (!(cond)) ::hdribr::CheckFailed(__FILE__, __LINE__, #cond, ""); \
   } while (0)
-#define HDRIBR_CHECK_MSG(cond, msg)                                    \
-  do {                                                                 \
+#define HDRIBR_CHECK_MSG(cond, msg)                                     \
+  do {                                                                  \
     if (!(cond)) ::hdribr::CheckFailed(__FILE__, __LINE__, #cond, msg); \
   } while (0)

@@ -10,9 +10,9 @@ namespace hdribr {
 
 struct ExposureSeries {
   int id = -1;
-  std::string name;               // "series0", or as given in series.json
-  double relative_exposure = 1;   // Exposure::Relative() shared by its photos
-  std::vector<int> photo_indices; // indices into Scene::photos
+  std::string name;                // "series0", or as given in series.json
+  double relative_exposure = 1;    // Exposure::Relative() shared by its photos
+  std::vector<int> photo_indices;  // indices into Scene::photos
 };
 
 // Groups photos whose relative exposure agrees within tolerance_ev stops (default 1/6 EV),

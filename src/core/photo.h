@@ -24,9 +24,9 @@ struct Exposure {
 };
 
 struct Photo {
-  int id = -1;                      // COLMAP image id
-  std::string name;                 // COLMAP image name (relative path inside images/)
-  std::filesystem::path image_path; // absolute or workspace-relative path of the pixels
+  int id = -1;                       // COLMAP image id
+  std::string name;                  // COLMAP image name (relative path inside images/)
+  std::filesystem::path image_path;  // absolute or workspace-relative path of the pixels
   int camera_id = -1;
   Rigid3d cam_from_world;
   Exposure exposure;

@@ -10,9 +10,9 @@ namespace hdribr {
 
 struct PointCloud {
   std::vector<Eigen::Vector3f> positions;
-  std::vector<Eigen::Vector3f> normals;               // unit length; empty if absent
-  std::vector<std::array<std::uint8_t, 3>> colors;    // sRGB 8-bit; empty if absent
-  std::vector<float> radii;                           // splat radius, scene units; empty if absent
+  std::vector<Eigen::Vector3f> normals;             // unit length; empty if absent
+  std::vector<std::array<std::uint8_t, 3>> colors;  // sRGB 8-bit; empty if absent
+  std::vector<float> radii;                         // splat radius, scene units; empty if absent
 
   size_t size() const { return positions.size(); }
   bool empty() const { return positions.empty(); }

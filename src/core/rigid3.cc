@@ -25,7 +25,7 @@ bool IsValidRotation(const Eigen::Quaterniond& q, double tol) {
 Rigid3d LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                const Eigen::Vector3d& up) {
   const Eigen::Vector3d z = (target - eye).normalized();  // forward
-  Eigen::Vector3d x = z.cross(up);                           // right (y is down)
+  Eigen::Vector3d x = z.cross(up);                        // right (y is down)
   if (x.squaredNorm() < 1e-12) x = z.unitOrthogonal();
   x.normalize();
   const Eigen::Vector3d y = z.cross(x);  // down

@@ -33,6 +33,7 @@ bool IsValidRotation(const Eigen::Quaterniond& q, double tol = 1e-3);
 
 // Rotation that looks from eye to target in COLMAP camera axes (x right, y down, z forward);
 // `up` is the world up direction. Returns cam_from_world.
-Rigid3d LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up);
+Rigid3d LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+               const Eigen::Vector3d& up);
 
 }  // namespace hdribr

@@ -15,9 +15,9 @@ namespace hdribr {
 
 struct Scene {
   std::filesystem::path workspace;
-  std::map<int, Camera> cameras;        // by COLMAP camera id
-  std::vector<Photo> photos;            // in COLMAP image-id order
-  std::vector<ExposureSeries> series;   // darkest first
+  std::map<int, Camera> cameras;       // by COLMAP camera id
+  std::vector<Photo> photos;           // in COLMAP image-id order
+  std::vector<ExposureSeries> series;  // darkest first
   PointCloud points;
 
   // Derived by UpdateDerived().

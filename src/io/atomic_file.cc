@@ -1,10 +1,10 @@
 #include "io/atomic_file.h"
 
+#include <unistd.h>
 #include <atomic>
 #include <fstream>
 #include <sstream>
 #include <system_error>
-#include <unistd.h>
 
 #include "core/error.h"
 
@@ -15,8 +15,8 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   static std::atomic<int> counter{0};
   const std::string tag = ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
   // Keep the extension last so that OpenCV/OpenEXR pick the codec from it.
-  temp_ = target_.parent_path() /
-          ("." + target_.stem().string() + tag + target_.extension().string());
+  temp_ =
+      target_.parent_path() / ("." + target_.stem().string() + tag + target_.extension().string());
 }
 
 AtomicFile::~AtomicFile() {

@@ -58,6 +58,14 @@ ColmapModel ParseColmapModelBinary(const std::string& cameras_bin, const std::st
                                    const std::string& points3d_bin,
                                    const std::filesystem::path& dir);
 
+// The three BINARY files' bytes for a model (cameras.bin, images.bin, points3D.bin).
+struct ColmapBinaryFiles {
+  std::string cameras;
+  std::string images;
+  std::string points3d;
+};
+ColmapBinaryFiles SerializeColmapModelBinary(const ColmapModel& model);
+
 // Writes cameras/images/points3D (.txt or .bin) into dir (created if needed), each atomically.
 void WriteColmapModel(const ColmapModel& model, const std::filesystem::path& dir,
                       ColmapFormat format);

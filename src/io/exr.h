@@ -13,7 +13,7 @@ enum class ExrPixel { kHalf, kFloat };
 // InputError naming the file on failure.
 cv::Mat ReadExr(const std::filesystem::path& path);
 // Writes CV_32FC3 (BGR) as R,G,B or CV_32FC1 as `single_channel_name`, atomically.
-void WriteExr(const std::filesystem::path& path, const cv::Mat& image, ExrPixel pixel = ExrPixel::kHalf,
-              const std::string& single_channel_name = "Y");
+void WriteExr(const std::filesystem::path& path, const cv::Mat& image,
+              ExrPixel pixel = ExrPixel::kHalf, const std::string& single_channel_name = "Y");
 
 }  // namespace hdribr

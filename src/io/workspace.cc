@@ -29,8 +29,8 @@ Camera UsableCamera(const Camera& camera, const fs::path& sparse_dir) {
     return Camera::Pinhole(camera.id, camera.width, camera.height, camera.fx(), camera.fy(),
                            camera.cx(), camera.cy());
   }
-  throw InputError(sparse_dir, "camera " + std::to_string(camera.id) + " uses the distorted model " +
-                                   CameraModelName(camera.model) +
+  throw InputError(sparse_dir, "camera " + std::to_string(camera.id) +
+                                   " uses the distorted model " + CameraModelName(camera.model) +
                                    "; run `colmap image_undistorter --output_type COLMAP` and "
                                    "load its output folder");
 }
@@ -62,9 +62,10 @@ WorkspaceLayout DetectWorkspace(const fs::path& root) {
   } else if (IsColmapModelDir(root)) {
     layout.sparse_dir = root;
   } else {
-    throw InputError(root,
-                     "no COLMAP model found (expected sparse/, sparse/0/ or cameras/images/points3D "
-                     "files in the folder)");
+    throw InputError(
+        root,
+        "no COLMAP model found (expected sparse/, sparse/0/ or cameras/images/points3D "
+        "files in the folder)");
   }
   if (fs::is_directory(root / "images", ec)) {
     layout.images_dir = root / "images";

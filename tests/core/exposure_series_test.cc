@@ -24,7 +24,7 @@ TEST(Exposure, RelativeFormula) {
 
 TEST(GroupByExposure, GroupsWithinOneSixthEv) {
   std::vector<Photo> photos = {
-      WithExposure(1.0 / 60, 100, 4), WithExposure(1.0 / 15, 100, 4),
+      WithExposure(1.0 / 60, 100, 4),  WithExposure(1.0 / 15, 100, 4),
       WithExposure(1.0 / 60, 110, 4),  // +0.14 EV: same series
       WithExposure(1.0 / 250, 100, 4), WithExposure(1.0 / 15, 100, 4),
       WithExposure(1.0 / 60, 125, 4),  // +0.32 EV: a new series

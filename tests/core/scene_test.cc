@@ -11,8 +11,8 @@ TEST(Scene, ScaleIsMedianCameraDistanceToCentroid) {
   const double distances[] = {2.0, 3.0, 10.0};
   for (double d : distances) {
     Photo p;
-    p.cam_from_world = LookAt(Eigen::Vector3d(0, 0, -d), Eigen::Vector3d::Zero(),
-                              Eigen::Vector3d(0, 1, 0));
+    p.cam_from_world =
+        LookAt(Eigen::Vector3d(0, 0, -d), Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0));
     scene.photos.push_back(p);
   }
   scene.UpdateDerived();

@@ -6,7 +6,11 @@
 #include <opencv2/core.hpp>
 
 #include "core/error.h"
+#include "io/colmap_model.h"
+#include "io/exif.h"
 #include "io/image.h"
+#include "io/io_test_util.h"
+#include "io/ply.h"
 #include "io/series_json.h"
 #include "test_util.h"
 #include "workspace/workspace_fixture.h"
@@ -93,6 +97,88 @@ TEST(Workspace, MissingFolderAndEmptyFolderAreClearErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no COLMAP model"), std::string::npos);
   }
+}
+
+TEST(Workspace, BinarySparseAndOtherLayoutsLoadTheSameScene) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir / "text");
+  const Scene text = LoadWorkspace(dir / "text");
+
+  // Binary model in sparse/0/, points in fused.ply: the COLMAP dense layout.
+  test::MakeWorkspace(dir / "dense");
+  const ColmapModel model = ReadColmapModel(dir / "dense" / "sparse");
+  fs::remove_all(dir / "dense" / "sparse");
+  WriteColmapModel(model, dir / "dense" / "sparse" / "0", ColmapFormat::kBinary);
+  fs::rename(dir / "dense" / "points.ply", dir / "dense" / "fused.ply");
+  fs::remove(dir / "dense" / "series.json");
+  const WorkspaceLayout layout = DetectWorkspace(dir / "dense");
+  EXPECT_EQ(layout.kind, "colmap-dense");
+  EXPECT_EQ(layout.sparse_dir, dir / "dense" / "sparse" / "0");
+  const Scene dense = LoadWorkspace(dir / "dense");
+  ASSERT_EQ(dense.photos.size(), text.photos.size());
+  for (size_t i = 0; i < dense.photos.size(); ++i) {
+    EXPECT_EQ(dense.photos[i].name, text.photos[i].name);
+    EXPECT_EQ(dense.photos[i].cam_from_world.translation,
+              text.photos[i].cam_from_world.translation);
+    EXPECT_EQ(dense.photos[i].series_id, text.photos[i].series_id);
+  }
+  EXPECT_EQ(dense.points.size(), text.points.size());
+  EXPECT_EQ(dense.series.size(), 2u);
+  EXPECT_TRUE(ValidateScene(dense).empty());
+}
+
+// Each corrupt input is an InputError naming the file, and nothing in the workspace changes.
+TEST(Workspace, CorruptInputsNameTheFileAndAreLeftUntouched) {
+  const fs::path dir = test::TempDir();
+  auto expect_error = [&](const fs::path& ws, const fs::path& file, const std::string& needle) {
+    const auto before = test::Snapshot(ws);
+    try {
+      LoadWorkspace(ws);
+      ADD_FAILURE() << "no error for " << file;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(test::Snapshot(ws), before);
+  };
+
+  test::MakeWorkspace(dir / "ply");
+  fs::resize_file(dir / "ply" / "points.ply", fs::file_size(dir / "ply" / "points.ply") - 10);
+  expect_error(dir / "ply", dir / "ply" / "points.ply", "truncated");
+
+  test::MakeWorkspace(dir / "empty_ply");
+  WritePly(dir / "empty_ply" / "points.ply", PointCloud{});
+  expect_error(dir / "empty_ply", dir / "empty_ply" / "points.ply", "no vertices");
+
+  test::MakeWorkspace(dir / "bin");
+  const ColmapModel model = ReadColmapModel(dir / "bin" / "sparse");
+  WriteColmapModel(model, dir / "bin" / "sparse", ColmapFormat::kBinary);
+  fs::resize_file(dir / "bin" / "sparse" / "images.bin", 100);
+  expect_error(dir / "bin", dir / "bin" / "sparse" / "images.bin", "truncated");
+
+  test::MakeWorkspace(dir / "quat");
+  ColmapModel bad = model;
+  bad.images.begin()->second.cam_from_world.rotation.coeffs() << 0.5, 0.5, 0.5, 0.6;
+  WriteColmapModel(bad, dir / "quat" / "sparse", ColmapFormat::kText);
+  expect_error(dir / "quat", dir / "quat" / "sparse" / "images.txt", "not a rotation");
+}
+
+TEST(Workspace, CorruptPhotoIsAProblemLineAndMissingExifIsTolerated) {
+  const fs::path dir = test::TempDir();
+  test::FixtureOptions opt;
+  opt.write_series_json = false;
+  test::MakeWorkspace(dir, opt);
+  // p0: truncated JPEG; p1: valid JPEG without EXIF.
+  fs::resize_file(dir / "images" / "p0.jpg", fs::file_size(dir / "images" / "p0.jpg") / 2);
+  WriteImage(dir / "images" / "p1.jpg", cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
+  const Scene scene = LoadWorkspace(dir);
+  EXPECT_FALSE(scene.photos[1].exposure.time_s.has_value());
+  EXPECT_DOUBLE_EQ(scene.photos[1].exposure.Relative(), 1.0);
+  const auto problems = ValidateScene(scene);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find((dir / "images" / "p0.jpg").string() + ": corrupt JPEG"),
+            std::string::npos)
+      << problems[0];
 }
 
 TEST(SeriesJson, RoundTripAndBadInput) {

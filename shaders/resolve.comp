@@ -1,0 +1,73 @@
+#version 450 core
+// Final depth, normal and validity of the depth pass.
+//  MODE 0 (plain):     the step-1 splats as they are.
+//  MODE 1 (marroquim): pull-push of all points; depth on the tangent plane of the texel.
+//  MODE 2 (lechelek):  steps 4-5 of Lechelek et al. 2019 sec. 4: only pixels covered by
+//                      step-1 splats; foreground pull-push where valid, background filling
+//                      the foreground's holes, the step-1 splat depth as a last resort.
+layout(local_size_x = 8, local_size_y = 8) in;
+#include "pullpush.glsl"
+
+#ifndef MODE
+#define MODE 2
+#endif
+
+layout(binding = 0) uniform sampler2D u_splat_depth;
+layout(binding = 1) uniform sampler2D u_splat_normal;  // w = coverage
+layout(binding = 2) uniform sampler2D u_front_a;
+layout(binding = 3) uniform sampler2D u_front_b;
+layout(binding = 4) uniform sampler2D u_back_a;
+layout(binding = 5) uniform sampler2D u_back_b;
+
+layout(binding = 0, r32f) writeonly uniform image2D u_out_depth;
+layout(binding = 1, rgba16f) writeonly uniform image2D u_out_normal;
+layout(binding = 2, r8) writeonly uniform image2D u_out_valid;
+
+// Depth of a pull-push texel at pixel px: its tangent plane, within its depth interval.
+float TexelDepth(Texel t, vec2 px) { return PlaneDepth(t.a.xyz, t.b.xyz, px, DepthHalfWidth(t)); }
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(p, ivec2(u_size)))) return;
+  vec2 px = vec2(p) + 0.5;
+  float depth = 0.0;
+  vec3 normal = vec3(0.0);
+  float splat_depth = texelFetch(u_splat_depth, p, 0).r;
+  vec4 splat_normal = texelFetch(u_splat_normal, p, 0);
+#if MODE == 0
+  if (splat_normal.w > 0.0) {
+    depth = splat_depth;
+    normal = splat_normal.xyz;
+  }
+#else
+  Texel front;
+  front.a = texelFetch(u_front_a, p, 0);
+  front.b = texelFetch(u_front_b, p, 0);
+#if MODE == 1
+  if (Valid(front)) {
+    depth = TexelDepth(front, px);
+    normal = front.b.xyz;
+  }
+#else
+  Texel back;
+  back.a = texelFetch(u_back_a, p, 0);
+  back.b = texelFetch(u_back_b, p, 0);
+  if (splat_normal.w > 0.0) {
+    if (Valid(front)) {
+      depth = TexelDepth(front, px);
+      normal = front.b.xyz;
+    } else if (Valid(back)) {
+      depth = TexelDepth(back, px);
+      normal = back.b.xyz;
+    } else {
+      depth = splat_depth;
+      normal = splat_normal.xyz;
+    }
+  }
+#endif
+#endif
+  bool valid = depth > 0.0;
+  imageStore(u_out_depth, p, vec4(valid ? depth : 0.0));
+  imageStore(u_out_normal, p, vec4(valid ? normalize(normal) : vec3(0.0), 0.0));
+  imageStore(u_out_valid, p, vec4(valid ? 1.0 : 0.0));
+}

@@ -1,0 +1,239 @@
+// `hdribr bench depth`: speed of the splat depth pass per mode, size and cloud size: GPU time
+// of each step (timer queries) and wall time per frame, on generated clouds.
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "io/atomic_file.h"
+#include "render/depth_pass.h"
+
+namespace hdribr::cli {
+namespace {
+
+struct BenchDepthOptions {
+  std::string sizes = "512x512,1920x1080";
+  std::string points = "100000,1000000,4000000";
+  std::string modes = "plain,marroquim,lechelek";
+  int frames = 3;
+  std::string json;
+};
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+// A generated scene: n points uniformly on a ground plane (6 x 6), a back wall and three
+// spheres, with normals and radii 1.25 x the mean spacing; seen by a 60-degree camera.
+PointCloud MakeCloud(size_t n) {
+  struct Sphere {
+    Eigen::Vector3d c;
+    double r;
+  };
+  const std::vector<Sphere> spheres = {
+      {{-1.0, -0.5, 0.0}, 0.5}, {{0.6, -0.4, 0.5}, 0.4}, {{0.0, -0.8, -1.0}, 0.8}};
+  const double ground = 36.0, wall = 18.0;
+  double area = ground + wall;
+  for (const auto& s : spheres) area += 4 * M_PI * s.r * s.r;
+  const float radius = static_cast<float>(1.25 * std::sqrt(area / static_cast<double>(n)));
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  PointCloud pc;
+  pc.positions.reserve(n);
+  pc.normals.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double pick = u(rng) * area;
+    Eigen::Vector3d p, nrm;
+    if (pick < ground) {  // y down: the ground is y = 0 facing -y
+      p = {6 * u(rng) - 3, 0.0, 6 * u(rng) - 3};
+      nrm = {0, -1, 0};
+    } else if (pick < ground + wall) {
+      p = {6 * u(rng) - 3, -3 * u(rng), 3.0};
+      nrm = {0, 0, -1};
+    } else {
+      const Sphere& s = spheres[i % spheres.size()];
+      Eigen::Vector3d d(g(rng), g(rng), g(rng));
+      d.normalize();
+      p = s.c + s.r * d;
+      nrm = d;
+    }
+    pc.positions.push_back(p.cast<float>());
+    pc.normals.push_back(nrm.cast<float>());
+  }
+  pc.radii.assign(n, radius);
+  return pc;
+}
+
+int Run(const BenchDepthOptions& opt) {
+  if (opt.frames < 1) throw UsageError("--frames must be >= 1");
+  std::vector<std::pair<int, int>> sizes;
+  for (const auto& s : Split(opt.sizes)) {
+    int w = 0, h = 0;
+    if (std::sscanf(s.c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0) {
+      throw UsageError("--sizes: bad size '" + s + "' (WxH)");
+    }
+    sizes.emplace_back(w, h);
+  }
+  std::vector<size_t> counts;
+  for (const auto& s : Split(opt.points)) {
+    try {
+      const long long v = std::stoll(s);
+      if (v <= 0) throw std::invalid_argument("");
+      counts.push_back(static_cast<size_t>(v));
+    } catch (const std::exception&) {
+      throw UsageError("--points: bad count '" + s + "'");
+    }
+  }
+  std::vector<render::DepthMode> modes;
+  for (const auto& s : Split(opt.modes)) modes.push_back(render::ParseDepthMode(s));
+
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  render::DepthPass pass(shaders);
+  nlohmann::json results = nlohmann::json::array();
+  const Rigid3d cam_from_world = LookAt(Eigen::Vector3d(0.0, -2.0, -4.5),
+                                        Eigen::Vector3d(0.0, -0.5, 0.5), Eigen::Vector3d(0, -1, 0));
+  for (size_t n : counts) {
+    pass.SetPoints(MakeCloud(n));
+    for (const auto& [w, h] : sizes) {
+      const double f = 0.5 * w / std::tan(M_PI / 6.0);
+      const Camera cam = Camera::Pinhole(1, w, h, f, f, 0.5 * w, 0.5 * h);
+      render::DepthTarget target = render::DepthTarget::Create(w, h);
+      for (render::DepthMode mode : modes) {
+        pass.options().mode = mode;
+        // Warm-up (allocation, shader compilation of the driver), then wall time per frame
+        // without queries, then per-step GPU times with queries.
+        pass.options().profile = false;
+        pass.Process(cam, cam_from_world, target);
+        glFinish();
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < opt.frames; ++i) pass.Process(cam, cam_from_world, target);
+        glFinish();
+        const double wall_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count() /
+            opt.frames;
+        pass.options().profile = true;
+        render::DepthStepTimes sum;
+        for (int i = 0; i < opt.frames; ++i) {
+          pass.Process(cam, cam_from_world, target);
+          const auto& t = pass.last_times();
+          for (int k = 0; k < render::DepthStepTimes::kSteps; ++k) {
+            sum.gpu_ms[k] += t.gpu_ms[k] / opt.frames;
+            sum.wall_ms[k] += t.wall_ms[k] / opt.frames;
+          }
+        }
+        pass.options().profile = false;
+        nlohmann::json gpu, step_wall;
+        for (int k = 0; k < render::DepthStepTimes::kSteps; ++k) {
+          gpu[render::DepthStepTimes::kNames[k]] = sum.gpu_ms[k];
+          step_wall[render::DepthStepTimes::kNames[k]] = sum.wall_ms[k];
+        }
+        gpu["total"] = sum.gpu_total_ms();
+        step_wall["total"] = sum.wall_total_ms();
+        nlohmann::json r = {
+            {"mode", render::DepthModeName(mode)},
+            {"width", w},
+            {"height", h},
+            {"points", n},
+            {"frames", opt.frames},
+            {"wall_ms", wall_ms},
+            {"gpu_ms", gpu},
+            {"step_wall_ms", step_wall},
+            {"points_per_s", n / (wall_ms * 1e-3)},
+        };
+        if (sum.gpu_ms[0] > 0) r["splat_points_per_s_gpu"] = n / (sum.gpu_ms[0] * 1e-3);
+        if (sum.wall_ms[0] > 0) r["splat_points_per_s_wall"] = n / (sum.wall_ms[0] * 1e-3);
+        results.push_back(r);
+        spdlog::info("{} {}x{} {} points: {:.1f} ms/frame", render::DepthModeName(mode), w, h, n,
+                     wall_ms);
+      }
+    }
+  }
+  // lechelek / marroquim wall-time ratio per size and cloud.
+  nlohmann::json ratios = nlohmann::json::array();
+  for (const auto& a : results) {
+    if (a["mode"] != "lechelek") continue;
+    for (const auto& b : results) {
+      if (b["mode"] == "marroquim" && b["width"] == a["width"] && b["height"] == a["height"] &&
+          b["points"] == a["points"]) {
+        ratios.push_back({{"width", a["width"]},
+                          {"height", a["height"]},
+                          {"points", a["points"]},
+                          {"wall_ratio", a["wall_ms"].get<double>() / b["wall_ms"].get<double>()},
+                          {"gpu_ratio", a["gpu_ms"]["total"].get<double>() /
+                                            b["gpu_ms"]["total"].get<double>()}});
+      }
+    }
+  }
+  nlohmann::json doc = {{"benchmark", "depth"},
+                        {"renderer", context.Renderer()},
+                        {"gl_version", context.Version()},
+                        {"results", results},
+                        {"lechelek_over_marroquim", ratios}};
+
+  // The table goes to stdout when the JSON goes to a file, else to stderr.
+  FILE* table = opt.json.empty() ? stderr : stdout;
+  std::fprintf(table, "depth pass on %s\n", context.Renderer().c_str());
+  std::fprintf(table,
+               "steps: wall ms with a glFinish after each step; gpu ms: timestamp queries\n");
+  std::fprintf(table, "%-9s %9s %8s | %8s %8s %8s %8s %8s | %9s %8s %10s\n", "mode", "size",
+               "points", "splat", "project", "pullpush", "resolve", "gpu ms", "wall ms", "fps",
+               "Mpoints/s");
+  for (const auto& r : results) {
+    const std::string size =
+        std::to_string(r["width"].get<int>()) + "x" + std::to_string(r["height"].get<int>());
+    const auto& g = r["step_wall_ms"];
+    std::fprintf(table, "%-9s %9s %8zu | %8.1f %8.1f %8.1f %8.1f %8.1f | %9.1f %8.2f %10.2f\n",
+                 r["mode"].get<std::string>().c_str(), size.c_str(), r["points"].get<size_t>(),
+                 g["splat"].get<double>(), g["project"].get<double>(), g["pullpush"].get<double>(),
+                 g["resolve"].get<double>(), g["total"].get<double>(), r["wall_ms"].get<double>(),
+                 1000.0 / r["wall_ms"].get<double>(), r["points_per_s"].get<double>() * 1e-6);
+  }
+  for (const auto& r : ratios) {
+    std::fprintf(table, "lechelek/marroquim %dx%d %zu points: wall %.2fx, gpu %.2fx\n",
+                 r["width"].get<int>(), r["height"].get<int>(), r["points"].get<size_t>(),
+                 r["wall_ratio"].get<double>(), r["gpu_ratio"].get<double>());
+  }
+  if (opt.json.empty()) {
+    std::printf("%s\n", doc.dump(2).c_str());
+  } else {
+    WriteFileAtomic(opt.json, doc.dump(2) + "\n");
+  }
+  return 0;
+}
+
+CommandRunner SetupBenchDepth(CLI::App& sub) {
+  auto opt = std::make_shared<BenchDepthOptions>();
+  sub.add_option("--sizes", opt->sizes, "Comma-separated WxH")->capture_default_str();
+  sub.add_option("--points", opt->points, "Comma-separated point counts")->capture_default_str();
+  sub.add_option("--modes", opt->modes, "Comma-separated modes")->capture_default_str();
+  sub.add_option("--frames", opt->frames, "Timed frames per configuration")->capture_default_str();
+  sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
+  return [opt] { return Run(*opt); };
+}
+
+}  // namespace
+
+HDRIBR_BENCH(depth, "Depth pass speed per mode, size and cloud (GPU step times, wall time)",
+             SetupBenchDepth);
+
+}  // namespace hdribr::cli

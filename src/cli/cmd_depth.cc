@@ -1,0 +1,172 @@
+// `hdribr depth WORKSPACE (--photo NAME | --camera FILE)`: the splat depth pass for one view,
+// written as a camera-z EXR plus a false-colour PNG beside it (for inspection).
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "io/atomic_file.h"
+#include "io/exr.h"
+#include "io/image.h"
+#include "io/workspace.h"
+#include "render/depth_pass.h"
+#include "render/readback.h"
+
+namespace hdribr::cli {
+namespace {
+
+struct DepthOptions {
+  std::string workspace;
+  std::string photo;
+  std::string camera_file;
+  std::string mode = "lechelek";
+  std::string size;
+  std::string out;
+};
+
+// Reads a camera file (docs/formats.md, "Camera file"): intrinsics and cam_from_world.
+std::pair<Camera, Rigid3d> ReadCameraFile(const std::filesystem::path& path) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(ReadFileToString(path));
+    const Camera cam = Camera::Pinhole(0, j.at("width").get<int>(), j.at("height").get<int>(),
+                                       j.at("fx").get<double>(), j.at("fy").get<double>(),
+                                       j.at("cx").get<double>(), j.at("cy").get<double>());
+    const auto q = j.at("cam_from_world").at("qvec").get<std::vector<double>>();
+    const auto t = j.at("cam_from_world").at("tvec").get<std::vector<double>>();
+    if (q.size() != 4 || t.size() != 3) throw InputError(path, "qvec needs 4 and tvec 3 numbers");
+    const Rigid3d pose(Eigen::Quaterniond(q[0], q[1], q[2], q[3]), {t[0], t[1], t[2]});
+    if (cam.width <= 0 || cam.height <= 0 || cam.fx() <= 0 || cam.fy() <= 0) {
+      throw InputError(path, "width, height, fx and fy must be positive");
+    }
+    if (!IsValidRotation(pose.rotation)) throw InputError(path, "qvec is not a unit quaternion");
+    return {cam, pose};
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, std::string("bad camera file: ") + e.what());
+  }
+}
+
+cv::Size ParseSize(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w <= 0 || h <= 0 || w > 16384 || h > 16384) {
+    throw UsageError("--size must be WxH with positive integers, got '" + s + "'");
+  }
+  return {w, h};
+}
+
+// Depth as a turbo colour map between the 1st and 99th percentiles of the valid depths
+// (near = red end), invalid pixels black.
+cv::Mat FalseColour(const cv::Mat& depth) {
+  std::vector<float> values;
+  for (auto it = depth.begin<float>(); it != depth.end<float>(); ++it) {
+    if (*it > 0) values.push_back(*it);
+  }
+  cv::Mat out(depth.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  if (values.empty()) return out;
+  std::sort(values.begin(), values.end());
+  const float lo = values[values.size() / 100];
+  const float hi = std::max(values[values.size() * 99 / 100], lo * 1.0001f);
+  cv::Mat gray(depth.size(), CV_8UC1);
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) {
+      const float t = std::clamp((hi - depth.at<float>(y, x)) / (hi - lo), 0.0f, 1.0f);
+      gray.at<uint8_t>(y, x) = static_cast<uint8_t>(t * 255.0f + 0.5f);
+    }
+  }
+  cv::Mat colour;
+  cv::applyColorMap(gray, colour, cv::COLORMAP_TURBO);
+  colour.copyTo(out, depth > 0);
+  return out;
+}
+
+int Run(const DepthOptions& opt) {
+  const render::DepthMode mode = render::ParseDepthMode(opt.mode);
+  const std::filesystem::path out = opt.out;
+  if (out.extension() != ".exr") throw UsageError("--out must end in .exr, got " + opt.out);
+  const Scene scene = LoadWorkspace(opt.workspace);
+  Camera camera;
+  Rigid3d cam_from_world;
+  std::string view_name;
+  if (!opt.photo.empty()) {
+    const int i = scene.FindPhoto(opt.photo);
+    if (i < 0) throw InputError(opt.workspace, "no photo named '" + opt.photo + "'");
+    camera = scene.CameraOf(scene.photos[static_cast<size_t>(i)]);
+    cam_from_world = scene.photos[static_cast<size_t>(i)].cam_from_world;
+    view_name = opt.photo;
+  } else {
+    std::tie(camera, cam_from_world) = ReadCameraFile(opt.camera_file);
+    view_name = opt.camera_file;
+  }
+  const cv::Size size =
+      opt.size.empty() ? cv::Size(camera.width, camera.height) : ParseSize(opt.size);
+  if (scene.points.empty()) spdlog::warn("the workspace has no points: the depth is empty");
+
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  render::DepthPassOptions pass_options;
+  pass_options.mode = mode;
+  render::DepthPass pass(shaders, pass_options);
+  pass.SetPoints(scene.points);
+  render::DepthTarget target = render::DepthTarget::Create(size.width, size.height);
+  pass.Process(camera, cam_from_world, target);
+  const render::DepthImages images = render::ReadDepthTarget(target);
+
+  std::filesystem::path png = out;
+  png.replace_extension(".png");
+  WriteExr(out, images.depth, ExrPixel::kFloat, "Z");
+  WriteImage(png, FalseColour(images.depth));
+
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(images.depth, nullptr, &hi);
+  cv::Mat masked = images.depth.clone();
+  masked.setTo(std::numeric_limits<float>::max(), images.depth <= 0);
+  cv::minMaxLoc(masked, &lo);
+  const int valid = cv::countNonZero(images.valid);
+  std::printf("view %s  mode %s  %dx%d  %zu points (%s)\n", view_name.c_str(),
+              render::DepthModeName(mode).c_str(), size.width, size.height, scene.points.size(),
+              context.Renderer().c_str());
+  std::printf("valid %.2f%% of pixels, depth %.4g .. %.4g\n",
+              100.0 * valid / (size.width * size.height), valid ? lo : 0.0, valid ? hi : 0.0);
+  std::printf("wrote %s and %s\n", out.c_str(), png.c_str());
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner SetupDepth(CLI::App& sub);
+HDRIBR_COMMAND(depth, "Depth map of one view by the splat depth pass (EXR + false-colour PNG)",
+               SetupDepth, 30);
+
+CommandRunner SetupDepth(CLI::App& sub) {
+  auto opt = std::make_shared<DepthOptions>();
+  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  auto* photo = sub.add_option("--photo", opt->photo, "View of this photo (COLMAP image name)");
+  auto* camera =
+      sub.add_option("--camera", opt->camera_file, "Camera file (JSON, docs/formats.md)");
+  photo->excludes(camera);
+  sub.add_option("--mode", opt->mode, "plain, marroquim or lechelek")
+      ->default_val("lechelek")
+      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
+  sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)");
+  sub.add_option("--out", opt->out, "Output depth EXR (camera z, channel Z, 0 = invalid)")
+      ->required();
+  return [opt, photo, camera] {
+    if (photo->count() == 0 && camera->count() == 0) {
+      throw UsageError("depth: give --photo NAME or --camera FILE");
+    }
+    return Run(*opt);
+  };
+}
+
+}  // namespace hdribr::cli

@@ -1,0 +1,300 @@
+#include "frontend/dense_mvs.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <opencv2/imgproc.hpp>
+#include <thread>
+
+#include "core/error.h"
+#include "frontend/ncc.h"
+#include "io/image.h"
+
+namespace hdribr {
+namespace fs = std::filesystem;
+
+namespace {
+
+// K for OpenCV's pixel convention (pixel centres at integer coordinates): COLMAP's cx - 0.5.
+Eigen::Matrix3d OpenCvK(const Camera& c) {
+  Eigen::Matrix3d k = c.K();
+  k(0, 2) -= 0.5;
+  k(1, 2) -= 0.5;
+  return k;
+}
+
+int Threads(int requested) {
+  if (requested > 0) return requested;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+template <typename F>
+void ParallelFor(int n, int threads, F&& f) {
+  std::atomic<int> next{0};
+  std::vector<std::thread> pool;
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  for (int t = 0; t < std::min(threads, n); ++t) {
+    pool.emplace_back([&] {
+      for (int i = next++; i < n; i = next++) {
+        try {
+          f(i);
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (!error) error = std::current_exception();
+        }
+      }
+    });
+  }
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+std::map<int, std::vector<int>> SelectNeighbors(const ColmapModel& model, int k) {
+  std::map<int, Eigen::Vector3d> centers;
+  for (const auto& [id, im] : model.images) centers[id] = im.cam_from_world.Inverse().translation;
+  std::map<std::pair<int, int>, int> shared;
+  const double min_angle = 2.0 * M_PI / 180.0;
+  for (const auto& [pid, pt] : model.points3d) {
+    std::vector<int> ids;
+    for (const auto& el : pt.track) ids.push_back(el.image_id);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    for (size_t a = 0; a < ids.size(); ++a) {
+      for (size_t b = a + 1; b < ids.size(); ++b) {
+        auto ca = centers.find(ids[a]), cb = centers.find(ids[b]);
+        if (ca == centers.end() || cb == centers.end()) continue;
+        const Eigen::Vector3d ra = (ca->second - pt.xyz).normalized();
+        const Eigen::Vector3d rb = (cb->second - pt.xyz).normalized();
+        const double angle = std::acos(std::clamp(ra.dot(rb), -1.0, 1.0));
+        if (angle >= min_angle) ++shared[{ids[a], ids[b]}];
+      }
+    }
+  }
+  std::map<int, std::vector<std::pair<int, int>>> scored;
+  for (const auto& [pair, count] : shared) {
+    scored[pair.first].push_back({count, pair.second});
+    scored[pair.second].push_back({count, pair.first});
+  }
+  std::map<int, std::vector<int>> out;
+  for (const auto& [id, im] : model.images) {
+    auto& list = scored[id];
+    std::sort(list.begin(), list.end(), [](auto& x, auto& y) { return x.first > y.first; });
+    for (size_t i = 0; i < list.size() && static_cast<int>(i) < k; ++i) {
+      out[id].push_back(list[i].second);
+    }
+  }
+  return out;
+}
+
+DepthMap ComputeDepthMap(const DepthMap& ref_in, const std::vector<const DepthMap*>& sources,
+                         double depth_min, double depth_max, const DenseOptions& options) {
+  DepthMap ref = ref_in;
+  const int w = ref.gray.cols, h = ref.gray.rows;
+  const int r = options.window_radius;
+  const int nd = std::max(3, options.num_depths);
+  cv::Mat ref_mean, ref_var;
+  WindowStats(ref.gray, r, ref_mean, ref_var);
+
+  const Eigen::Matrix3d kr_inv = OpenCvK(ref.camera).inverse();
+  const Rigid3d world_from_ref = ref.cam_from_world.Inverse();
+  const double inv_near = 1.0 / depth_min, inv_far = 1.0 / depth_max;
+  std::vector<cv::Mat> volume(nd);
+  const cv::Mat ones(ref.gray.size(), CV_8U, cv::Scalar(1));
+  const size_t ns = sources.size();
+  const int keep = std::max<int>(1, static_cast<int>((ns + 1) / 2));
+  std::vector<cv::Mat> ncc(ns);
+  for (int k = 0; k < nd; ++k) {
+    const double depth = 1.0 / (inv_far + (inv_near - inv_far) * k / (nd - 1));
+    for (size_t s = 0; s < ns; ++s) {
+      const DepthMap& src = *sources[s];
+      const Rigid3d src_from_ref = src.cam_from_world * world_from_ref;
+      const Eigen::Matrix3d rot = src_from_ref.rotation.toRotationMatrix();
+      // Plane z = depth in the reference frame: x_src ~ K_s (R + t e3^T / depth) K_r^-1 x_ref.
+      Eigen::Matrix3d hm = rot;
+      hm.col(2) += src_from_ref.translation / depth;
+      const Eigen::Matrix3d src_from_ref_px = OpenCvK(src.camera) * hm * kr_inv;
+      cv::Mat hcv(3, 3, CV_64F);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) hcv.at<double>(i, j) = src_from_ref_px(i, j);
+      cv::Mat warped, mask;
+      cv::warpPerspective(src.gray, warped, hcv, ref.gray.size(),
+                          cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+      cv::warpPerspective(ones, mask, hcv, ref.gray.size(),
+                          cv::INTER_NEAREST | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, 0);
+      ncc[s] = NccMap(ref.gray, ref_mean, ref_var, warped, r, 1e-5f);
+      ncc[s].setTo(-1.f, mask == 0);
+    }
+    // Aggregate: mean of the best half of the sources (robust to occlusion in some of them).
+    cv::Mat agg(h, w, CV_32F);
+    std::vector<float> vals(ns);
+    for (int y = 0; y < h; ++y) {
+      float* pa = agg.ptr<float>(y);
+      for (int x = 0; x < w; ++x) {
+        for (size_t s = 0; s < ns; ++s) vals[s] = ncc[s].at<float>(y, x);
+        std::partial_sort(vals.begin(), vals.begin() + keep, vals.end(), std::greater<float>());
+        float sum = 0;
+        for (int i = 0; i < keep; ++i) sum += vals[i];
+        pa[x] = ns ? sum / keep : -1.f;
+      }
+    }
+    volume[k] = agg;
+  }
+
+  ref.depth = cv::Mat::zeros(h, w, CV_32F);
+  ref.score = cv::Mat::zeros(h, w, CV_32F);
+  const float min_texture = 1e-4f;  // window variance of [0,1] intensities (about 2.5/255 std)
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (ref_var.at<float>(y, x) < min_texture) continue;
+      int best = 0;
+      float best_score = -2.f;
+      for (int k = 0; k < nd; ++k) {
+        const float v = volume[k].at<float>(y, x);
+        if (v > best_score) {
+          best_score = v;
+          best = k;
+        }
+      }
+      if (best_score < options.min_ncc || best == 0 || best == nd - 1) continue;
+      // Parabola through the three scores around the peak, in plane-index units.
+      const float a = volume[best - 1].at<float>(y, x), c = volume[best + 1].at<float>(y, x);
+      const float denom = a - 2 * best_score + c;
+      const double offset = denom < 0 ? std::clamp(0.5 * (a - c) / denom, -0.5, 0.5) : 0.0;
+      const double inv = inv_far + (inv_near - inv_far) * (best + offset) / (nd - 1);
+      ref.depth.at<float>(y, x) = static_cast<float>(1.0 / inv);
+      ref.score.at<float>(y, x) = best_score;
+    }
+  }
+  return ref;
+}
+
+DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
+                       const DenseOptions& options, const std::function<void(int, int)>& progress) {
+  const int threads = Threads(options.threads);
+  const auto neighbors = SelectNeighbors(model, options.num_neighbors);
+
+  // Load and scale every photo.
+  std::vector<int> ids;
+  for (const auto& [id, im] : model.images) ids.push_back(id);
+  const int n = static_cast<int>(ids.size());
+  std::vector<DepthMap> maps(n);
+  std::map<int, int> index;
+  for (int i = 0; i < n; ++i) index[ids[i]] = i;
+  ParallelFor(n, threads, [&](int i) {
+    const ColmapImage& im = model.images.at(ids[i]);
+    const Camera& cam = model.cameras.at(im.camera_id);
+    const cv::Mat bgr = ReadImage(images_dir / im.name);
+    const double s = std::min(1.0, double(options.max_size) / std::max(bgr.cols, bgr.rows));
+    const int w = std::max(1, static_cast<int>(std::lround(bgr.cols * s)));
+    const int h = std::max(1, static_cast<int>(std::lround(bgr.rows * s)));
+    DepthMap& m = maps[i];
+    m.image_id = im.id;
+    m.camera =
+        Camera::Pinhole(cam.id, cam.width, cam.height, cam.fx(), cam.fy(), cam.cx(), cam.cy())
+            .Scaled(w, h);
+    m.cam_from_world = im.cam_from_world;
+    cv::resize(bgr, m.color, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    cv::Mat g;
+    cv::cvtColor(m.color, g, cv::COLOR_BGR2GRAY);
+    g.convertTo(m.gray, CV_32F, 1.0 / 255.0);
+    auto it = neighbors.find(im.id);
+    if (it != neighbors.end()) m.neighbors = it->second;
+  });
+
+  // Depth range of each photo from the sparse points it sees.
+  std::vector<std::pair<double, double>> ranges(n, {0.0, 0.0});
+  for (int i = 0; i < n; ++i) {
+    const ColmapImage& im = model.images.at(ids[i]);
+    std::vector<double> z;
+    for (const auto& p2 : im.points2d) {
+      if (p2.point3d_id < 0) continue;
+      auto it = model.points3d.find(p2.point3d_id);
+      if (it == model.points3d.end()) continue;
+      const double d = (im.cam_from_world * it->second.xyz).z();
+      if (d > 0) z.push_back(d);
+    }
+    if (z.size() < 10) continue;
+    std::sort(z.begin(), z.end());
+    const double lo = z[z.size() * 2 / 100], hi = z[z.size() * 98 / 100];
+    ranges[i] = {0.75 * lo, 1.25 * hi};
+  }
+
+  std::atomic<int> done{0};
+  std::mutex progress_mutex;
+  ParallelFor(n, threads, [&](int i) {
+    std::vector<const DepthMap*> sources;
+    for (int nid : maps[i].neighbors) sources.push_back(&maps[index.at(nid)]);
+    if (!sources.empty() && ranges[i].second > 0) {
+      DepthMap out = ComputeDepthMap(maps[i], sources, ranges[i].first, ranges[i].second, options);
+      maps[i].depth = out.depth;
+      maps[i].score = out.score;
+    }
+    const int d = ++done;
+    if (progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(d, n);
+    }
+  });
+
+  // Geometric consistency and fusion: a depth survives when at least min_consistent of its
+  // source photos' depth maps see the same surface within `consistency` relative depth; the
+  // fused point averages the agreeing back-projections.
+  std::vector<DenseResult> partial(n);
+  ParallelFor(n, threads, [&](int i) {
+    const DepthMap& ref = maps[i];
+    if (ref.depth.empty()) return;
+    const Rigid3d world_from_ref = ref.cam_from_world.Inverse();
+    const Eigen::Vector3d ref_center = world_from_ref.translation;
+    DenseResult& out = partial[i];
+    for (int y = 0; y < ref.depth.rows; ++y) {
+      for (int x = 0; x < ref.depth.cols; ++x) {
+        const float z = ref.depth.at<float>(y, x);
+        if (z <= 0) continue;
+        const Eigen::Vector3d xw =
+            world_from_ref * (ref.camera.CamFromPixel({x + 0.5, y + 0.5}) * double(z));
+        Eigen::Vector3d sum = xw;
+        Eigen::Vector3d dir = (ref_center - xw).normalized();
+        int agree = 0;
+        for (int nid : ref.neighbors) {
+          const DepthMap& nb = maps[index.at(nid)];
+          if (nb.depth.empty()) continue;
+          const Eigen::Vector3d pc = nb.cam_from_world * xw;
+          if (pc.z() <= 0) continue;
+          const Eigen::Vector2d px = nb.camera.PixelFromCam(pc);
+          const int u = static_cast<int>(std::floor(px.x())),
+                    v = static_cast<int>(std::floor(px.y()));
+          if (u < 0 || v < 0 || u >= nb.depth.cols || v >= nb.depth.rows) continue;
+          const float zn = nb.depth.at<float>(v, u);
+          if (zn <= 0 || std::abs(zn - pc.z()) > options.consistency * pc.z()) continue;
+          ++agree;
+          const Rigid3d world_from_nb = nb.cam_from_world.Inverse();
+          sum += world_from_nb * (nb.camera.CamFromPixel(px) * double(zn));
+          dir += (world_from_nb.translation - xw).normalized();
+        }
+        if (agree < options.min_consistent) continue;
+        const Eigen::Vector3d p = sum / (agree + 1);
+        out.cloud.positions.push_back(p.cast<float>());
+        const cv::Vec3b c = ref.color.at<cv::Vec3b>(y, x);
+        out.cloud.colors.push_back({c[2], c[1], c[0]});
+        out.view_dirs.push_back(dir.normalized().cast<float>());
+      }
+    }
+  });
+  DenseResult result;
+  for (auto& p : partial) {
+    result.cloud.positions.insert(result.cloud.positions.end(), p.cloud.positions.begin(),
+                                  p.cloud.positions.end());
+    result.cloud.colors.insert(result.cloud.colors.end(), p.cloud.colors.begin(),
+                               p.cloud.colors.end());
+    result.view_dirs.insert(result.view_dirs.end(), p.view_dirs.begin(), p.view_dirs.end());
+  }
+  for (const auto& m : maps) result.num_depth_maps += m.depth.empty() ? 0 : 1;
+  return result;
+}
+
+}  // namespace hdribr

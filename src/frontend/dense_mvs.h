@@ -1,0 +1,61 @@
+// Built-in CPU multi-view stereo (used when COLMAP has no CUDA): fronto-parallel plane sweep with
+// NCC photo-consistency per photo, geometric consistency filtering across photos, fusion.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/point_cloud.h"
+#include "io/colmap_model.h"
+
+namespace hdribr {
+
+struct DenseOptions {
+  int max_size = 400;         // depth maps are computed at this largest side (pixels)
+  int num_neighbors = 4;      // source photos per reference photo
+  int num_depths = 96;        // planes swept, uniform in inverse depth
+  int window_radius = 3;      // NCC window (2r+1)^2
+  float min_ncc = 0.55f;      // aggregated NCC needed to keep a depth
+  float consistency = 0.01f;  // relative depth agreement for geometric consistency
+  int min_consistent = 2;     // other depth maps that must agree with a depth
+  int threads = 0;            // 0: hardware concurrency
+};
+
+// A depth map of one photo (camera-space z, 0 where invalid) at reduced resolution.
+struct DepthMap {
+  int image_id = -1;
+  Camera camera;  // PINHOLE, scaled to the depth map size
+  Rigid3d cam_from_world;
+  cv::Mat depth;               // CV_32F
+  cv::Mat score;               // CV_32F, aggregated NCC
+  cv::Mat color;               // CV_8UC3 BGR at the same size
+  cv::Mat gray;                // CV_32F in [0, 1] at the same size
+  std::vector<int> neighbors;  // image ids of its source photos
+};
+
+struct DenseResult {
+  PointCloud cloud;                        // positions and colours
+  std::vector<Eigen::Vector3f> view_dirs;  // per point: unit sum of directions to its cameras
+  int num_depth_maps = 0;
+};
+
+// Source photos of each photo: the ones sharing the most sparse points at a triangulation angle
+// of at least 2 degrees. Returns image id -> neighbour ids (best first).
+std::map<int, std::vector<int>> SelectNeighbors(const ColmapModel& model, int k);
+
+// Depth map of one reference photo from its source photos (images already loaded and scaled).
+// `depth_min`, `depth_max` bound the sweep (camera z).
+DepthMap ComputeDepthMap(const DepthMap& ref_in, const std::vector<const DepthMap*>& sources,
+                         double depth_min, double depth_max, const DenseOptions& options);
+
+// Whole pipeline on an undistorted (PINHOLE) model and its images folder. `progress(done, total)`
+// is called after each depth map.
+DenseResult DensifyCpu(const ColmapModel& model, const std::filesystem::path& images_dir,
+                       const DenseOptions& options,
+                       const std::function<void(int, int)>& progress = {});
+
+}  // namespace hdribr

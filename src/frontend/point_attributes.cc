@@ -1,0 +1,128 @@
+#include "frontend/point_attributes.h"
+
+#include <pcl/features/normal_3d_omp.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+namespace hdribr {
+
+namespace {
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr ToPcl(const PointCloud& cloud) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr pc(new pcl::PointCloud<pcl::PointXYZ>);
+  pc->resize(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    (*pc)[i].x = cloud.positions[i].x();
+    (*pc)[i].y = cloud.positions[i].y();
+    (*pc)[i].z = cloud.positions[i].z();
+  }
+  return pc;
+}
+
+int Threads(int requested) {
+  return requested > 0 ? requested
+                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+template <typename T>
+void KeepIndices(std::vector<T>& v, const pcl::Indices& keep) {
+  if (v.empty()) return;
+  std::vector<T> out;
+  out.reserve(keep.size());
+  for (auto i : keep) out.push_back(v[static_cast<size_t>(i)]);
+  v.swap(out);
+}
+
+}  // namespace
+
+size_t RemoveOutliers(PointCloud& cloud, std::vector<Eigen::Vector3f>& view_dirs,
+                      const AttributeOptions& options) {
+  if (cloud.size() <= static_cast<size_t>(options.outlier_neighbors)) return 0;
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+  sor.setInputCloud(ToPcl(cloud));
+  sor.setMeanK(options.outlier_neighbors);
+  sor.setStddevMulThresh(options.outlier_stddev);
+  pcl::Indices keep;
+  sor.filter(keep);
+  const size_t removed = cloud.size() - keep.size();
+  KeepIndices(cloud.positions, keep);
+  KeepIndices(cloud.normals, keep);
+  KeepIndices(cloud.colors, keep);
+  KeepIndices(cloud.radii, keep);
+  KeepIndices(view_dirs, keep);
+  return removed;
+}
+
+void EstimateNormals(PointCloud& cloud, const std::vector<Eigen::Vector3f>& view_dirs,
+                     const AttributeOptions& options) {
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(Threads(options.threads));
+  ne.setInputCloud(ToPcl(cloud));
+  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+  ne.setSearchMethod(tree);
+  ne.setKSearch(std::min<int>(options.normal_neighbors, static_cast<int>(cloud.size())));
+  pcl::PointCloud<pcl::Normal> normals;
+  ne.compute(normals);
+  cloud.normals.resize(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    Eigen::Vector3f nrm(normals[i].normal_x, normals[i].normal_y, normals[i].normal_z);
+    const Eigen::Vector3f view =
+        i < view_dirs.size() ? view_dirs[i] : Eigen::Vector3f(0.f, 0.f, 0.f);
+    if (!nrm.allFinite() || nrm.norm() < 0.5f) {
+      nrm = view.norm() > 0 ? view.normalized() : Eigen::Vector3f::UnitZ();
+    } else {
+      nrm.normalize();
+      if (nrm.dot(view) < 0) nrm = -nrm;
+    }
+    cloud.normals[i] = nrm;
+  }
+}
+
+void EstimateRadii(PointCloud& cloud, const AttributeOptions& options) {
+  cloud.radii.assign(cloud.size(), 0.f);
+  if (cloud.size() < 2) {
+    if (!cloud.empty()) cloud.radii[0] = 1.f;
+    return;
+  }
+  const auto pc = ToPcl(cloud);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(pc);
+  const int k = std::min<int>(options.radius_neighbors + 1, static_cast<int>(cloud.size()));
+  pcl::Indices idx;
+  std::vector<float> d2;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const int found = tree.nearestKSearch((*pc)[i], k, idx, d2);
+    double sum = 0;
+    int count = 0;
+    for (int j = 0; j < found; ++j) {
+      if (static_cast<size_t>(idx[j]) == i) continue;  // the point itself
+      sum += std::sqrt(d2[j]);
+      ++count;
+    }
+    cloud.radii[i] = count ? static_cast<float>(sum / count) : 0.f;
+  }
+  std::vector<float> sorted = cloud.radii;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  float median = sorted[sorted.size() / 2];
+  if (!(median > 0)) median = 1e-3f;
+  for (float& r : cloud.radii) r = std::clamp(r, 0.25f * median, 4.f * median);
+}
+
+std::vector<Eigen::Vector3f> ViewDirsFromCameras(const PointCloud& cloud,
+                                                 const std::vector<Eigen::Vector3d>& centers) {
+  std::vector<Eigen::Vector3f> dirs(cloud.size(), Eigen::Vector3f::Zero());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d p = cloud.positions[i].cast<double>();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& c : centers) sum += (c - p).normalized();
+    if (sum.norm() > 0) dirs[i] = sum.normalized().cast<float>();
+  }
+  return dirs;
+}
+
+}  // namespace hdribr

@@ -1,0 +1,106 @@
+// The splat depth pass (Lechelek et al. 2019, sec. 4 "Point cloud rendering"): per-pixel
+// camera-space depth, normal and validity of a point cloud seen from any pinhole camera.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/rigid3.h"
+#include "gl/objects.h"
+#include "gl/shader_library.h"
+#include "render/point_buffer.h"
+#include "render/pull_push.h"
+
+namespace hdribr::render {
+
+enum class DepthMode {
+  kPlain,      // elliptical splats with depth test only (paper step 1)
+  kMarroquim,  // Marroquim et al. 2007 pull-push over all points
+  kLechelek,   // the paper's five steps (default)
+};
+
+// "plain", "marroquim", "lechelek"; ParseDepthMode throws UsageError for anything else.
+std::string DepthModeName(DepthMode mode);
+DepthMode ParseDepthMode(const std::string& name);
+std::vector<DepthMode> AllDepthModes();
+
+// Output of the pass, at any resolution: camera z (R32F, positive forward, 0 = invalid),
+// camera-space unit normal facing the camera (RGBA16F, xyz; COLMAP axes), validity (R8,
+// 1 = valid). Row 0 is the top image row.
+struct DepthTarget {
+  gl::Texture depth;
+  gl::Texture normal;
+  gl::Texture valid;
+
+  static DepthTarget Create(int width, int height);
+  int width() const { return depth.width(); }
+  int height() const { return depth.height(); }
+};
+
+struct DepthPassOptions {
+  DepthMode mode = DepthMode::kLechelek;
+  // Step 2: a point is front when z <= z1 + front_radii * r + front_rel * z1, z1 the step-1
+  // depth at its centre pixel and r its splat radius (world units).
+  float front_radii = 2.0f;
+  float front_rel = 0.005f;
+  // Step 2 in one layered draw when ARB_shader_viewport_layer_array is there (else two draws).
+  bool layered_classify = true;
+  // Measure each step: GL timestamp queries (GPU time) and wall time with glFinish() after
+  // each step (which serialises the frame: use for per-step figures only).
+  bool profile = false;
+};
+
+// Time of each step of the last Process() call (profile on), milliseconds: index 0 splat
+// (step 1), 1 projection/classification (step 2), 2 pull-push (step 3), 3 resolve (steps 4-5).
+struct DepthStepTimes {
+  static constexpr int kSteps = 4;
+  static constexpr const char* kNames[kSteps] = {"splat", "project", "pullpush", "resolve"};
+  double gpu_ms[kSteps] = {0, 0, 0, 0};   // GL timestamp queries
+  double wall_ms[kSteps] = {0, 0, 0, 0};  // CPU clock with glFinish() after each step
+  double gpu_total_ms() const { return gpu_ms[0] + gpu_ms[1] + gpu_ms[2] + gpu_ms[3]; }
+  double wall_total_ms() const { return wall_ms[0] + wall_ms[1] + wall_ms[2] + wall_ms[3]; }
+};
+
+class DepthPass {
+ public:
+  // Needs a current GL 4.5 context; compiles the shaders of every mode.
+  explicit DepthPass(const gl::ShaderLibrary& shaders, DepthPassOptions options = {});
+  ~DepthPass();
+  DepthPass(const DepthPass&) = delete;
+  DepthPass& operator=(const DepthPass&) = delete;
+
+  // Uploads the cloud (replacing the previous one). Radii: see PointBuffer.
+  void SetPoints(const PointCloud& cloud, float radius_override = 0.0f);
+  const PointBuffer& points() const { return points_; }
+
+  // Renders the cloud seen by `camera` (pinhole; intrinsics are rescaled to the target size
+  // when it differs from camera.width x camera.height) into `target`.
+  void Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target);
+
+  DepthPassOptions& options() { return options_; }
+  const DepthStepTimes& last_times() const { return times_; }
+
+ private:
+  struct Buffers;
+  Buffers& BuffersFor(int width, int height);
+
+  DepthPassOptions options_;
+  gl::Program splat_;
+  gl::Program project_all_;
+  gl::Program project_front_;
+  gl::Program project_back_;
+  gl::Program project_layered_;  // empty without ARB_shader_viewport_layer_array
+  gl::Program resolve_[3];
+  PullPushPass pull_push_;
+  PointBuffer points_;
+  std::unique_ptr<Buffers> buffers_;
+  std::vector<gl::TimestampQuery> stamps_;
+  DepthStepTimes times_;
+  float max_point_size_ = 64.0f;
+};
+
+}  // namespace hdribr::render

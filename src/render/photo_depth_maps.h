@@ -1,0 +1,31 @@
+// Depth maps of every photo of a scene, computed once with the depth pass into a texture
+// array (layer i = scene.photos[i]), for the occlusion test of the blend pass.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/scene.h"
+#include "gl/objects.h"
+#include "render/depth_pass.h"
+
+namespace hdribr::render {
+
+class PhotoDepthMaps {
+ public:
+  // Renders each photo's view at its camera size times `scale` (> 0), rounded, into layer i
+  // of an R32F array sized to the largest; smaller photos use the top-left corner. The depth
+  // pass must already hold the scene's points.
+  PhotoDepthMaps(const Scene& scene, DepthPass& pass, double scale = 1.0);
+
+  const gl::Texture& depth() const { return depth_; }
+  // Size of layer i's valid region in pixels.
+  const cv::Size& layer_size(int i) const { return sizes_[static_cast<size_t>(i)]; }
+  int count() const { return static_cast<int>(sizes_.size()); }
+
+ private:
+  gl::Texture depth_;
+  std::vector<cv::Size> sizes_;
+};
+
+}  // namespace hdribr::render

@@ -1,0 +1,36 @@
+// The point cloud on the GPU: one vertex buffer (position, normal, radius) and its layout.
+#pragma once
+
+#include "core/point_cloud.h"
+#include "gl/objects.h"
+
+namespace hdribr::render {
+
+// Splat radius used when a cloud has no radii: the diagonal of the bounding box over
+// sqrt(N), the point spacing of N points spread over a surface of about diagonal^2 (for a
+// surface sampled uniformly this makes neighbouring splats overlap). 0 for an empty cloud.
+float DefaultSplatRadius(const PointCloud& cloud);
+
+class PointBuffer {
+ public:
+  PointBuffer() = default;
+  // Uploads positions, normals (zero when absent: view-facing discs) and radii (the
+  // DefaultSplatRadius heuristic when absent, or `radius_override` when > 0).
+  explicit PointBuffer(const PointCloud& cloud, float radius_override = 0.0f);
+  PointBuffer(PointBuffer&&) noexcept = default;
+  PointBuffer& operator=(PointBuffer&&) noexcept = default;
+
+  size_t size() const { return count_; }
+  // World-space bounds, including the splat radii.
+  const Bounds& bounds() const { return bounds_; }
+  // Binds the vertex array (attributes 0: position, 1: normal, 2: radius).
+  void Bind() const;
+
+ private:
+  gl::Buffer buffer_;
+  gl::VertexArray vao_;
+  size_t count_ = 0;
+  Bounds bounds_;
+};
+
+}  // namespace hdribr::render

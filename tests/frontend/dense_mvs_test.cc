@@ -1,0 +1,112 @@
+#include "frontend/dense_mvs.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "test_util.h"
+
+namespace hdribr {
+namespace {
+
+// Slanted textured plane z = 4 + 0.3 x, seen by four cameras looking down +z.
+double PlaneZ(double x) { return 4.0 + 0.3 * x; }
+
+struct Fixture {
+  ColmapModel model;
+  std::filesystem::path images;
+};
+
+Fixture MakeScene() {
+  Fixture f;
+  f.images = test::TempDir("dense_mvs");
+  const Camera cam = Camera::Pinhole(1, 160, 120, 150, 150, 80, 60);
+  f.model.cameras[1] = cam;
+  // Texture over [-3, 3]^2: smooth random pattern.
+  cv::Mat small(60, 60, CV_32F), texture;
+  cv::RNG rng(7);
+  rng.fill(small, cv::RNG::UNIFORM, 0.0, 1.0);
+  cv::resize(small, texture, cv::Size(600, 600), 0, 0, cv::INTER_CUBIC);
+  const std::vector<Eigen::Vector3d> centers = {{-0.3, 0, 0}, {0, 0, 0}, {0.3, 0, 0}, {0, 0.3, 0}};
+  const std::vector<double> gains = {1.0, 0.5, 0.8, 1.0};  // different exposures
+  for (int i = 0; i < 4; ++i) {
+    ColmapImage im;
+    im.id = i + 1;
+    im.camera_id = 1;
+    im.name = "v" + std::to_string(i) + ".png";
+    im.cam_from_world = Rigid3d(Eigen::Quaterniond::Identity(), -centers[i]);
+    cv::Mat img(cam.height, cam.width, CV_8UC3);
+    for (int v = 0; v < cam.height; ++v) {
+      for (int u = 0; u < cam.width; ++u) {
+        const Eigen::Vector3d d = cam.CamFromPixel({u + 0.5, v + 0.5});
+        const Eigen::Vector3d& c = centers[i];
+        const double t = (4.0 + 0.3 * c.x() - c.z()) / (d.z() - 0.3 * d.x());
+        const Eigen::Vector3d p = c + t * d;
+        const float tx = static_cast<float>((p.x() + 3) / 6 * 599);
+        const float ty = static_cast<float>((p.y() + 3) / 6 * 599);
+        cv::Mat px;
+        cv::getRectSubPix(texture, cv::Size(1, 1), cv::Point2f(tx, ty), px);
+        const double val =
+            std::clamp(255.0 * gains[i] * (0.1 + 0.8 * px.at<float>(0, 0)), 0.0, 255.0);
+        img.at<cv::Vec3b>(v, u) =
+            cv::Vec3b(cv::saturate_cast<uchar>(val), cv::saturate_cast<uchar>(val * 0.9),
+                      cv::saturate_cast<uchar>(val * 0.8));
+      }
+    }
+    cv::imwrite((f.images / im.name).string(), img);
+    f.model.images[im.id] = im;
+  }
+  // Sparse points on the plane, seen by all photos.
+  for (int k = 0; k < 60; ++k) {
+    ColmapPoint3D pt;
+    pt.id = k + 1;
+    const double x = rng.uniform(-0.8, 0.8), y = rng.uniform(-0.6, 0.6);
+    pt.xyz = {x, y, PlaneZ(x)};
+    for (auto& [id, im] : f.model.images) {
+      ColmapPoint2D p2;
+      p2.xy = cam.PixelFromCam(im.cam_from_world * pt.xyz);
+      p2.point3d_id = pt.id;
+      im.points2d.push_back(p2);
+      pt.track.push_back({id, static_cast<int>(im.points2d.size()) - 1});
+    }
+    f.model.points3d[pt.id] = pt;
+  }
+  return f;
+}
+
+TEST(DenseMvs, NeighboursShareSparsePoints) {
+  const Fixture f = MakeScene();
+  const auto nb = SelectNeighbors(f.model, 2);
+  ASSERT_EQ(nb.size(), 4u);
+  for (const auto& [id, list] : nb) {
+    EXPECT_EQ(list.size(), 2u);
+    for (int n : list) EXPECT_NE(n, id);
+  }
+}
+
+TEST(DenseMvs, RecoversASlantedPlaneAcrossExposures) {
+  const Fixture f = MakeScene();
+  DenseOptions o;
+  o.max_size = 160;
+  o.num_neighbors = 3;
+  o.num_depths = 64;
+  o.min_consistent = 2;
+  o.threads = 2;
+  const DenseResult r = DensifyCpu(f.model, f.images, o);
+  EXPECT_EQ(r.num_depth_maps, 4);
+  ASSERT_EQ(r.view_dirs.size(), r.cloud.size());
+  ASSERT_EQ(r.cloud.colors.size(), r.cloud.size());
+  // Most of the 4 x 160 x 120 pixels see the plane.
+  EXPECT_GT(r.cloud.size(), 4u * 160u * 120u / 3u);
+  size_t accurate = 0;
+  for (size_t i = 0; i < r.cloud.size(); ++i) {
+    const Eigen::Vector3f& p = r.cloud.positions[i];
+    if (std::abs(p.z() - PlaneZ(p.x())) < 0.01 * 4.0) ++accurate;  // 1% of the distance
+    EXPECT_LT(r.view_dirs[i].z(), -0.8f);  // toward the cameras (FOV 56 deg)
+  }
+  EXPECT_GT(double(accurate) / r.cloud.size(), 0.95) << accurate << " of " << r.cloud.size();
+}
+
+}  // namespace
+}  // namespace hdribr

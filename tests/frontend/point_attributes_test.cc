@@ -1,0 +1,67 @@
+#include "frontend/point_attributes.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace hdribr {
+namespace {
+
+// A 40x40 grid on the plane z = 1 with spacing s, seen from a camera at z = 5.
+PointCloud Grid(float s) {
+  PointCloud c;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) c.positions.push_back({i * s, j * s, 1.f});
+  return c;
+}
+
+TEST(PointAttributes, NormalsFaceTheCameras) {
+  PointCloud c = Grid(0.01f);
+  std::vector<Eigen::Vector3f> view(c.size(), Eigen::Vector3f(0.2f, 0.f, 1.f).normalized());
+  EstimateNormals(c, view, {});
+  ASSERT_EQ(c.normals.size(), c.size());
+  for (const auto& n : c.normals) EXPECT_GT(n.z(), 0.999f);
+  // Seen from below: all flipped.
+  std::vector<Eigen::Vector3f> below(c.size(), Eigen::Vector3f(0.f, 0.f, -1.f));
+  EstimateNormals(c, below, {});
+  for (const auto& n : c.normals) EXPECT_LT(n.z(), -0.999f);
+}
+
+TEST(PointAttributes, ViewDirsFromCameraCentres) {
+  PointCloud c = Grid(0.01f);
+  const auto dirs = ViewDirsFromCameras(c, {Eigen::Vector3d(0.2, 0.2, 5.0)});
+  for (const auto& d : dirs) EXPECT_GT(d.z(), 0.9f);
+}
+
+TEST(PointAttributes, RadiiMakeNeighbouringSplatsOverlap) {
+  const float s = 0.02f;
+  PointCloud c = Grid(s);
+  EstimateRadii(c, {});
+  ASSERT_EQ(c.radii.size(), c.size());
+  for (float r : c.radii) {
+    EXPECT_GT(r, 0.5f * s);  // discs of neighbours at distance s overlap
+    EXPECT_LT(r, 2.0f * s);  // but not absurdly large
+  }
+}
+
+TEST(PointAttributes, RemovesIsolatedOutliersKeepingAttributesInStep) {
+  PointCloud c = Grid(0.01f);
+  c.colors.assign(c.size(), {10, 20, 30});
+  c.positions.push_back({5.f, 5.f, 5.f});  // far away
+  c.colors.push_back({255, 0, 0});
+  std::vector<Eigen::Vector3f> view(c.size(), Eigen::Vector3f::UnitZ());
+  view.back() = -Eigen::Vector3f::UnitZ();
+  const size_t removed = RemoveOutliers(c, view, {});
+  EXPECT_GE(removed, 1u);
+  EXPECT_LT(removed, 20u);
+  ASSERT_EQ(c.colors.size(), c.size());
+  ASSERT_EQ(view.size(), c.size());
+  for (size_t i = 0; i < c.size(); ++i) {
+    EXPECT_LT(c.positions[i].norm(), 2.f);
+    EXPECT_EQ(c.colors[i][0], 10);
+    EXPECT_GT(view[i].z(), 0.f);
+  }
+}
+
+}  // namespace
+}  // namespace hdribr

@@ -1,0 +1,55 @@
+// Analytic test scenes for the depth pass: points sampled on spheres and a plane, with exact
+// normals and radii, and ground-truth depth by ray casting the same surfaces.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/point_cloud.h"
+#include "core/rigid3.h"
+
+namespace hdribr::test {
+
+struct Sphere {
+  Eigen::Vector3d centre;
+  double radius;
+};
+
+// An optional plane z = plane_z (world), |x|, |y| <= plane_half.
+struct AnalyticScene {
+  std::vector<Sphere> spheres;
+  bool has_plane = false;
+  double plane_z = 0.0;
+  double plane_half = 0.0;
+
+  // Two overlapping spheres in front of a plane (seen from the origin looking along +z).
+  static AnalyticScene SpheresAndPlane();
+  // The same spheres without the plane (silhouettes against empty background).
+  static AnalyticScene SpheresOnly();
+
+  double Area() const;
+  // About `count` points uniformly at random over the surfaces (fixed seed), with unit normals
+  // and radius `radius_factor` times the mean point spacing.
+  PointCloud Sample(int count, double radius_factor = 1.25, unsigned seed = 7) const;
+  // Camera z of the nearest surface through each pixel centre (CV_32FC1, 0 = no surface).
+  cv::Mat GroundTruthDepth(const Camera& camera, const Rigid3d& cam_from_world) const;
+};
+
+// 256x256 pinhole camera with a 58 degree field of view.
+Camera TestCamera(int size = 256);
+
+// Depth accuracy figures against a ground-truth depth map.
+struct DepthScores {
+  double accuracy = 0;  // share of GT-covered pixels valid and within rel_tol of GT
+  double leakage = 0;   // share of GT-covered pixels valid and deeper than GT by > leak_tol
+  double coverage = 0;  // share of GT-covered pixels that are valid
+  double spurious = 0;  // share of GT-empty pixels that are valid (in GT-empty pixels)
+};
+DepthScores ScoreDepth(const cv::Mat& depth, const cv::Mat& gt, double rel_tol = 0.01,
+                       double leak_tol = 0.05);
+
+// Pixels within `radius` pixels of a GT coverage edge (CV_8UC1, 255 = in the band).
+cv::Mat SilhouetteBand(const cv::Mat& gt, int radius = 2);
+
+}  // namespace hdribr::test

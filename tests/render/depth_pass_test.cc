@@ -1,0 +1,312 @@
+// The splat depth pass on analytic scenes (spheres and a plane) with ray-cast ground truth:
+// accuracy, leakage, silhouette stability and edge cases, for the three modes.
+#include "render/depth_pass.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "analytic_scene.h"
+#include "core/error.h"
+#include "gl/context.h"
+#include "gl/debug.h"
+#include "render/photo_depth_maps.h"
+#include "render/readback.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace hdribr::render {
+namespace {
+
+using test::AnalyticScene;
+using test::DepthScores;
+
+class DepthPassTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    context_ = std::make_unique<gl::HeadlessContext>();
+    shaders_ = std::make_unique<gl::ShaderLibrary>();
+  }
+  static void TearDownTestSuite() {
+    shaders_.reset();
+    context_.reset();
+  }
+  void TearDown() override { EXPECT_EQ(gl::DrainGlErrors(), ""); }
+
+  // Depth of `cloud` seen by camera/pose in `mode`, read back.
+  DepthImages Render(DepthPass& pass, const Camera& camera, const Rigid3d& cam_from_world,
+                     DepthMode mode) {
+    pass.options().mode = mode;
+    DepthTarget target = DepthTarget::Create(camera.width, camera.height);
+    pass.Process(camera, cam_from_world, target);
+    return ReadDepthTarget(target);
+  }
+
+  static std::unique_ptr<gl::HeadlessContext> context_;
+  static std::unique_ptr<gl::ShaderLibrary> shaders_;
+};
+std::unique_ptr<gl::HeadlessContext> DepthPassTest::context_;
+std::unique_ptr<gl::ShaderLibrary> DepthPassTest::shaders_;
+
+// Views used for accuracy: the capture view (origin, looking +z) and two novel views.
+std::vector<Rigid3d> AccuracyViews() {
+  const Eigen::Vector3d target(0, 0, 3.2), up(0, -1, 0);
+  std::vector<Rigid3d> views = {Rigid3d()};
+  for (double deg : {-20.0, 25.0}) {
+    const double a = deg * M_PI / 180.0;
+    const Eigen::Vector3d eye = target + 3.2 * Eigen::Vector3d(std::sin(a), 0.1, -std::cos(a));
+    views.push_back(LookAt(eye, target, up));
+  }
+  return views;
+}
+
+TEST_F(DepthPassTest, PointLandsOnItsPixel) {
+  // A point at camera (x, y, z) must cover pixel floor(fx x/z + cx, fy y/z + cy) at depth z.
+  const Camera cam = test::TestCamera(64);
+  PointCloud pc;
+  const Eigen::Vector3f p(0.3f, -0.2f, 2.0f);
+  pc.positions = {p};
+  pc.normals = {Eigen::Vector3f(0, 0, -1)};
+  pc.radii = {0.001f};  // well under a pixel: only the centre pixel
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  const Eigen::Vector2d px = cam.PixelFromCam(p.cast<double>());
+  for (DepthMode mode : AllDepthModes()) {
+    const DepthImages out = Render(pass, cam, Rigid3d(), mode);
+    EXPECT_EQ(cv::countNonZero(out.valid), 1) << DepthModeName(mode);
+    const int x = static_cast<int>(px.x()), y = static_cast<int>(px.y());
+    EXPECT_NEAR(out.depth.at<float>(y, x), 2.0f, 1e-4) << DepthModeName(mode);
+    EXPECT_EQ(out.valid.at<uint8_t>(y, x), 255) << DepthModeName(mode);
+    const cv::Vec3f n = out.normal.at<cv::Vec3f>(y, x);
+    EXPECT_NEAR(n[2], -1.0f, 1e-3) << DepthModeName(mode);
+  }
+}
+
+TEST_F(DepthPassTest, AccuracyAndLeakage) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  const PointCloud pc = scene.Sample(40000);
+  const Camera cam = test::TestCamera(256);
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  for (DepthMode mode : AllDepthModes()) {
+    double acc = 0, leak = 0, worst_acc = 1, worst_leak = 0;
+    const auto views = AccuracyViews();
+    for (const Rigid3d& view : views) {
+      const cv::Mat gt = scene.GroundTruthDepth(cam, view);
+      const cv::Mat depth = Render(pass, cam, view, mode).depth;
+      const DepthScores s = test::ScoreDepth(depth, gt);
+      if (const char* dump = std::getenv("HDRIBR_TEST_DUMP")) {
+        // Debug aid: green = within 1%, red = too deep, blue = too near, white = missing.
+        cv::Mat img(gt.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+        for (int y = 0; y < gt.rows; ++y) {
+          for (int x = 0; x < gt.cols; ++x) {
+            const float g = gt.at<float>(y, x), d = depth.at<float>(y, x);
+            cv::Vec3b c(0, 0, 0);
+            if (g > 0 && d <= 0)
+              c = {255, 255, 255};
+            else if (g <= 0 && d > 0)
+              c = {0, 255, 255};
+            else if (g > 0 && std::abs(d - g) <= 0.01 * g)
+              c = {0, 120, 0};
+            else if (g > 0 && d > g)
+              c = {0, 0, 255};
+            else if (g > 0)
+              c = {255, 0, 0};
+            img.at<cv::Vec3b>(y, x) = c;
+          }
+        }
+        cv::imwrite(std::string(dump) + "/" + DepthModeName(mode) + "_" +
+                        std::to_string(&view - views.data()) + ".png",
+                    img);
+      }
+      acc += s.accuracy / views.size();
+      leak += s.leakage / views.size();
+      worst_acc = std::min(worst_acc, s.accuracy);
+      worst_leak = std::max(worst_leak, s.leakage);
+    }
+    std::printf(
+        "[ figures  ] %-9s accuracy(1%%) %.2f%% (worst view %.2f%%)  leakage %.3f%% "
+        "(worst %.3f%%)\n",
+        DepthModeName(mode).c_str(), 100 * acc, 100 * worst_acc, 100 * leak, 100 * worst_leak);
+    if (mode == DepthMode::kLechelek) {
+      EXPECT_GE(worst_acc, 0.97);    // issue 4 target
+      EXPECT_LE(worst_leak, 0.005);  // issue 4 target
+    }
+  }
+}
+
+TEST_F(DepthPassTest, SilhouetteStabilityOverOrbit) {
+  // Smooth 60-frame orbit (6 degrees in all, about 0.4 pixel of motion per frame) around the
+  // spheres. A silhouette moving smoothly crosses a pixel once; a toggle is a pixel of the
+  // silhouette band (3 px around the GT silhouette) whose coverage flips and flips back on the
+  // next frame (on, off, on or off, on, off): flicker.
+  const AnalyticScene scene = AnalyticScene::SpheresOnly();
+  const PointCloud pc = scene.Sample(std::getenv("NPTS") ? std::atoi(std::getenv("NPTS")) : 20000);
+  const Camera cam = test::TestCamera(256);
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  const Eigen::Vector3d target(0, 0.07, 2.8), up(0, -1, 0);
+  std::vector<cv::Mat> bands;
+  std::vector<Rigid3d> views;
+  for (int f = 0; f < 60; ++f) {
+    const double a = (-3.0 + 6.0 * f / 59.0) * M_PI / 180.0;
+    const Eigen::Vector3d eye = target + 2.8 * Eigen::Vector3d(std::sin(a), 0.0, -std::cos(a));
+    views.push_back(LookAt(eye, target, up));
+    bands.push_back(test::SilhouetteBand(scene.GroundTruthDepth(cam, views.back()), 3));
+  }
+  std::map<DepthMode, double> toggles;
+  for (DepthMode mode : AllDepthModes()) {
+    std::vector<cv::Mat> cov;
+    for (const Rigid3d& view : views) cov.push_back(Render(pass, cam, view, mode).depth > 0);
+    long count = 0;
+    for (size_t f = 1; f + 1 < views.size(); ++f) {
+      const cv::Mat flicker = ~(cov[f - 1] ^ cov[f + 1]) & (cov[f] ^ cov[f - 1]);
+      count += cv::countNonZero(flicker & bands[f]);
+    }
+    toggles[mode] = count / double(views.size() - 2);
+    std::printf("[ figures  ] %-9s silhouette toggles per frame %.1f\n",
+                DepthModeName(mode).c_str(), toggles[mode]);
+  }
+  EXPECT_LE(toggles[DepthMode::kLechelek], 0.5 * toggles[DepthMode::kMarroquim]);  // issue 4
+}
+
+TEST_F(DepthPassTest, LayeredClassificationEqualsTwoDraws) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  DepthPass pass(*shaders_);
+  pass.SetPoints(scene.Sample(10000));
+  const Camera cam = test::TestCamera(128);
+  const cv::Mat layered = Render(pass, cam, AccuracyViews()[1], DepthMode::kLechelek).depth;
+  pass.options().layered_classify = false;
+  const cv::Mat two_draws = Render(pass, cam, AccuracyViews()[1], DepthMode::kLechelek).depth;
+  EXPECT_GT(cv::countNonZero(layered), 128 * 128 / 2);
+  EXPECT_EQ(cv::norm(layered, two_draws, cv::NORM_INF), 0.0);
+}
+
+TEST_F(DepthPassTest, EmptyCloud) {
+  DepthPass pass(*shaders_);
+  pass.SetPoints(PointCloud{});
+  for (DepthMode mode : AllDepthModes()) {
+    const DepthImages out = Render(pass, test::TestCamera(32), Rigid3d(), mode);
+    EXPECT_EQ(cv::countNonZero(out.valid), 0);
+    EXPECT_EQ(cv::countNonZero(out.depth), 0);
+  }
+}
+
+TEST_F(DepthPassTest, AllPointsBehindCamera) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  PointCloud pc = scene.Sample(5000);
+  for (auto& p : pc.positions) p.z() = -p.z();
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  for (DepthMode mode : AllDepthModes()) {
+    const DepthImages out = Render(pass, test::TestCamera(64), Rigid3d(), mode);
+    EXPECT_EQ(cv::countNonZero(out.valid), 0) << DepthModeName(mode);
+  }
+}
+
+TEST_F(DepthPassTest, NoNormalsNoRadiiGiveViewFacingDiscs) {
+  // A fronto-parallel plane without normals or radii: the heuristic radius and view-facing
+  // discs must still cover it with correct depth.
+  AnalyticScene scene;
+  scene.has_plane = true;
+  scene.plane_z = 3.0;
+  scene.plane_half = 1.0;
+  PointCloud pc = scene.Sample(20000);
+  pc.normals.clear();
+  pc.radii.clear();
+  EXPECT_GT(DefaultSplatRadius(pc), 0.0f);
+  const Camera cam = test::TestCamera(128);
+  const cv::Mat gt = scene.GroundTruthDepth(cam, Rigid3d());
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  for (DepthMode mode : AllDepthModes()) {
+    const DepthImages out = Render(pass, cam, Rigid3d(), mode);
+    const DepthScores s = test::ScoreDepth(out.depth, gt);
+    std::printf("[ figures  ] %-9s no normals: accuracy %.2f%%\n", DepthModeName(mode).c_str(),
+                100 * s.accuracy);
+    EXPECT_GE(s.accuracy, 0.9) << DepthModeName(mode);
+    const cv::Vec3f n = out.normal.at<cv::Vec3f>(64, 64);  // centre: view-facing = -z
+    EXPECT_NEAR(n[2], -1.0f, 1e-2);
+  }
+}
+
+TEST_F(DepthPassTest, CameraInsideCloud) {
+  // Camera at the centre of a sphere of points: every pixel sees the sphere at known depth.
+  AnalyticScene scene;
+  scene.spheres = {{Eigen::Vector3d(0, 0, 0), 1.0}};
+  const PointCloud pc = scene.Sample(20000);
+  const Camera cam = test::TestCamera(128);
+  const cv::Mat gt = scene.GroundTruthDepth(cam, Rigid3d());
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  for (DepthMode mode : AllDepthModes()) {
+    const DepthScores s = test::ScoreDepth(Render(pass, cam, Rigid3d(), mode).depth, gt);
+    std::printf("[ figures  ] %-9s inside the cloud: accuracy %.2f%% coverage %.2f%%\n",
+                DepthModeName(mode).c_str(), 100 * s.accuracy, 100 * s.coverage);
+    // Random sampling leaves ~1-2% of pixels uncovered by any splat (plain, lechelek).
+    EXPECT_GE(s.coverage, 0.97) << DepthModeName(mode);
+    // Constant-depth splats (plain) err by r tan(off-axis angle) here; pull-push does not.
+    if (mode != DepthMode::kPlain) {
+      EXPECT_GE(s.accuracy, 0.97) << DepthModeName(mode);
+    }
+  }
+}
+
+TEST_F(DepthPassTest, AnyResolutionAndDistortedCameraRefused) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  DepthPass pass(*shaders_);
+  pass.SetPoints(scene.Sample(10000));
+  const Camera cam = test::TestCamera(128);
+  // Rendering a 128x128 camera into a 96x64 target rescales the intrinsics.
+  const Camera scaled = cam.Scaled(96, 64);
+  const cv::Mat gt = scene.GroundTruthDepth(scaled, Rigid3d());
+  const DepthImages out = Render(pass, cam, Rigid3d(), DepthMode::kLechelek);
+  EXPECT_EQ(out.depth.cols, 128);
+  DepthTarget small = DepthTarget::Create(96, 64);
+  pass.Process(cam, Rigid3d(), small);
+  const DepthScores s = test::ScoreDepth(ReadDepthTarget(small).depth, gt);
+  EXPECT_GE(s.accuracy, 0.9);
+
+  Camera distorted = cam;
+  distorted.model = CameraModel::kSimpleRadial;
+  distorted.params = {cam.fx(), cam.cx(), cam.cy(), 0.1};
+  EXPECT_THROW(pass.Process(distorted, Rigid3d(), small), UsageError);
+}
+
+TEST_F(DepthPassTest, PhotoDepthMapsMatchSingleRenders) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  Scene s;
+  s.cameras[1] = test::TestCamera(96);
+  s.cameras[2] = test::TestCamera(64);
+  const auto views = AccuracyViews();
+  for (int i = 0; i < 3; ++i) {
+    Photo p;
+    p.id = i + 1;
+    p.name = "p" + std::to_string(i);
+    p.camera_id = i == 2 ? 2 : 1;
+    p.cam_from_world = views[static_cast<size_t>(i)];
+    s.photos.push_back(p);
+  }
+  s.points = scene.Sample(8000);
+  DepthPass pass(*shaders_);
+  pass.SetPoints(s.points);
+  const PhotoDepthMaps maps(s, pass);
+  ASSERT_EQ(maps.count(), 3);
+  EXPECT_EQ(maps.depth().layers(), 3);
+  EXPECT_EQ(maps.depth().width(), 96);
+  for (int i = 0; i < 3; ++i) {
+    const Camera& cam = s.CameraOf(s.photos[static_cast<size_t>(i)]);
+    const cv::Mat single =
+        Render(pass, cam, s.photos[static_cast<size_t>(i)].cam_from_world, DepthMode::kLechelek)
+            .depth;
+    const cv::Mat layer = ReadTextureLayerR32F(maps.depth(), i);
+    const cv::Mat roi = layer(cv::Rect(0, 0, cam.width, cam.height));
+    EXPECT_EQ(cv::norm(roi, single, cv::NORM_INF), 0.0) << "layer " << i;
+    EXPECT_GT(cv::countNonZero(single), cam.width * cam.height / 2);
+  }
+}
+
+}  // namespace
+}  // namespace hdribr::render
