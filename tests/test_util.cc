@@ -1,6 +1,7 @@
 #include "test_util.h"
 
 #include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 
@@ -9,7 +10,10 @@ namespace fs = std::filesystem;
 
 fs::path TempDir(const std::string& tag) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
+  // Outside a test (SetUpTestSuite) the folder is per process: CTest runs each test of a
+  // suite in its own process, in parallel, and each builds the suite's fixture.
+  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name()
+                          : "suite" + std::to_string(getpid());
   for (char& c : name) {
     if (c == '/') c = '_';
   }

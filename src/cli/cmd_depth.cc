@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "io/atomic_file.h"
+#include "io/camera_spec.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "io/workspace.h"
@@ -32,28 +32,6 @@ struct DepthOptions {
   std::string size;
   std::string out;
 };
-
-// Reads a camera file (docs/formats.md, "Camera file"): intrinsics and cam_from_world.
-std::pair<Camera, Rigid3d> ReadCameraFile(const std::filesystem::path& path) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(ReadFileToString(path));
-    const Camera cam = Camera::Pinhole(0, j.at("width").get<int>(), j.at("height").get<int>(),
-                                       j.at("fx").get<double>(), j.at("fy").get<double>(),
-                                       j.at("cx").get<double>(), j.at("cy").get<double>());
-    const auto q = j.at("cam_from_world").at("qvec").get<std::vector<double>>();
-    const auto t = j.at("cam_from_world").at("tvec").get<std::vector<double>>();
-    if (q.size() != 4 || t.size() != 3) throw InputError(path, "qvec needs 4 and tvec 3 numbers");
-    const Rigid3d pose(Eigen::Quaterniond(q[0], q[1], q[2], q[3]), {t[0], t[1], t[2]});
-    if (cam.width <= 0 || cam.height <= 0 || cam.fx() <= 0 || cam.fy() <= 0) {
-      throw InputError(path, "width, height, fx and fy must be positive");
-    }
-    if (!IsValidRotation(pose.rotation)) throw InputError(path, "qvec is not a unit quaternion");
-    return {cam, pose};
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, std::string("bad camera file: ") + e.what());
-  }
-}
 
 cv::Size ParseSize(const std::string& s) {
   int w = 0, h = 0;
@@ -105,7 +83,9 @@ int Run(const DepthOptions& opt) {
     cam_from_world = scene.photos[static_cast<size_t>(i)].cam_from_world;
     view_name = opt.photo;
   } else {
-    std::tie(camera, cam_from_world) = ReadCameraFile(opt.camera_file);
+    const View view = ReadCameraFile(opt.camera_file);
+    camera = view.camera;
+    cam_from_world = view.cam_from_world;
     view_name = opt.camera_file;
   }
   const cv::Size size =

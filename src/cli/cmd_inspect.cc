@@ -8,7 +8,10 @@
 #include <string>
 
 #include "cli/command.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
 #include "io/workspace.h"
+#include "render/renderer.h"
 
 namespace hdribr::cli {
 namespace {
@@ -16,6 +19,8 @@ namespace {
 struct InspectOptions {
   std::string workspace;
   bool json = false;
+  bool gpu = false;        // --gpu: GPU memory the renderer needs (helper A)
+  int max_photo_size = 0;  // with --gpu
 };
 
 std::string FormatExposure(const Exposure& e) {
@@ -51,10 +56,24 @@ std::string Attributes(const PointCloud& pc) {
 
 nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+// --gpu: builds the renderer (photos + per-photo depth maps on the GPU) and reports its memory.
+nlohmann::json GpuReport(const Scene& scene, int max_photo_size) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  render::RendererOptions ro;
+  ro.max_photo_size = max_photo_size;
+  const render::Renderer renderer(shaders, scene, ro);
+  return {{"gpu_bytes", renderer.gpu_bytes()},
+          {"max_photo_size", max_photo_size},
+          {"renderer", context.Renderer()}};
+}
+
 int Run(const InspectOptions& opt) {
   const WorkspaceLayout layout = DetectWorkspace(opt.workspace);
   const Scene scene = LoadWorkspace(opt.workspace);
   const std::vector<std::string> problems = ValidateScene(scene);
+  nlohmann::json gpu;
+  if (opt.gpu && problems.empty()) gpu = GpuReport(scene, opt.max_photo_size);
 
   if (opt.json) {
     nlohmann::json j;
@@ -88,6 +107,7 @@ int Run(const InspectOptions& opt) {
     j["centroid"] = Vec(scene.centroid);
     j["scene_scale"] = scene.scene_scale;
     j["problems"] = problems;
+    if (!gpu.is_null()) j["gpu"] = gpu;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("workspace    %s (%s layout)\n", scene.workspace.c_str(), layout.kind.c_str());
@@ -116,6 +136,12 @@ int Run(const InspectOptions& opt) {
         "scene scale  %.4f (median camera-to-centroid distance; unit of relative "
         "thresholds)\n",
         scene.scene_scale);
+    if (!gpu.is_null()) {
+      std::printf("gpu memory   %.1f MiB (photo textures + depth maps, max photo size %s; %s)\n",
+                  gpu["gpu_bytes"].get<size_t>() / 1048576.0,
+                  opt.max_photo_size > 0 ? std::to_string(opt.max_photo_size).c_str() : "full",
+                  gpu["renderer"].get<std::string>().c_str());
+    }
     std::printf("problems     %zu\n", problems.size());
   }
   for (const auto& p : problems) std::fprintf(stderr, "problem: %s\n", p.c_str());
@@ -131,6 +157,9 @@ CommandRunner SetupInspect(CLI::App& sub) {
   auto opt = std::make_shared<InspectOptions>();
   sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
   sub.add_flag("--json", opt->json, "Print JSON instead of text");
+  sub.add_flag("--gpu", opt->gpu, "Also load the photos on the GPU and report the memory used");
+  sub.add_option("--max-photo-size", opt->max_photo_size,
+                 "With --gpu: longest photo side on the GPU (0 = full size)");
   return [opt] { return Run(*opt); };
 }
 

@@ -20,6 +20,7 @@ namespace {
 
 struct Scores {
   long covered = 0, accurate = 0, leak = 0;
+  long too_near = 0, too_deep = 0, missing = 0;  // the misses, by kind
 };
 
 void Score(const cv::Mat& depth, const cv::Mat& gt, Scores& s, const std::string& tag = "") {
@@ -50,7 +51,15 @@ void Score(const cv::Mat& depth, const cv::Mat& gt, Scores& s, const std::string
       const float g = gt.at<float>(y, x), d = depth.at<float>(y, x);
       if (g <= 0) continue;
       ++s.covered;
-      if (d > 0 && std::abs(d - g) <= 0.01f * g) ++s.accurate;
+      if (d > 0 && std::abs(d - g) <= 0.01f * g) {
+        ++s.accurate;
+      } else if (d <= 0) {
+        ++s.missing;
+      } else if (d > g) {
+        ++s.too_deep;
+      } else {
+        ++s.too_near;
+      }
       if (d > g * 1.05f) ++s.leak;
     }
   }
@@ -102,6 +111,14 @@ TEST(SynthDepthTest, AccuracyOnSyntheticCapture) {
         "%.3f%% novel %.3f%%\n",
         DepthModeName(mode).c_str(), 100 * acc_in, 100 * acc_novel, 100 * leak_in,
         100 * leak_novel);
+    std::printf(
+        "[ figures  ] synth %-9s misses (share of covered) input: near %.2f%% deep %.2f%% "
+        "missing %.2f%%; novel: near %.2f%% deep %.2f%% missing %.2f%%\n",
+        DepthModeName(mode).c_str(), 100.0 * input.too_near / input.covered,
+        100.0 * input.too_deep / input.covered, 100.0 * input.missing / input.covered,
+        100.0 * novel_scores.too_near / novel_scores.covered,
+        100.0 * novel_scores.too_deep / novel_scores.covered,
+        100.0 * novel_scores.missing / novel_scores.covered);
     if (mode == DepthMode::kLechelek) {
       // Issue 4 leakage target (met).
       EXPECT_LE(leak_in, 0.005);

@@ -40,9 +40,7 @@ CaptureOptions SmallOptions() {
 class Capture : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::path(HDRIBR_TEST_TMP) / "synth_capture_fixture";
-    fs::remove_all(dir_);
-    fs::create_directories(dir_.parent_path());
+    dir_ = test::TempDir("synth_capture_fixture") / "capture";
     summary_ = WriteCapture(SmallOptions(), dir_);
     model_ = ReadColmapModelText(dir_ / "gt");
     points_ = ReadPly(dir_ / "gt/points.ply");

@@ -1,0 +1,232 @@
+// `hdribr bench render`: frame time of the renderer split into depth pass and blend pass, per
+// output size, photo count and K best, on a generated scene (points + synthetic photos).
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "io/atomic_file.h"
+#include "render/renderer.h"
+
+namespace hdribr::cli {
+namespace {
+
+struct BenchRenderOptions {
+  std::string sizes = "512x512,1920x1080";
+  std::string photos = "20,60";
+  std::string k_best = "0,1,4";
+  long long points = 1000000;
+  std::string photo_size = "640x480";
+  int frames = 2;
+  std::string json;
+};
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::pair<int, int> ParseWxH(const std::string& s, const char* what) {
+  int w = 0, h = 0;
+  char extra = 0;
+  if (std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &extra) != 2 || w <= 0 || h <= 0 || w > 16384 ||
+      h > 16384) {
+    throw UsageError(std::string(what) + ": bad size '" + s + "' (WxH)");
+  }
+  return {w, h};
+}
+
+std::vector<int> ParseInts(const std::string& s, const char* what, int min) {
+  std::vector<int> out;
+  for (const auto& item : Split(s)) {
+    try {
+      size_t used = 0;
+      const int v = std::stoi(item, &used);
+      if (used != item.size() || v < min) throw std::invalid_argument("");
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw UsageError(std::string(what) + ": bad value '" + item + "'");
+    }
+  }
+  if (out.empty()) throw UsageError(std::string(what) + ": empty list");
+  return out;
+}
+
+// n points on a 6 x 6 ground (y = 0, y down) and a hemisphere-ish dome of radius 1 at the
+// centre, with normals and radii 1.25 x the mean spacing.
+PointCloud MakeCloud(size_t n) {
+  const double ground = 36.0, sphere = 2 * M_PI;  // upper half of a unit sphere
+  const double area = ground + sphere;
+  const float radius = static_cast<float>(1.25 * std::sqrt(area / static_cast<double>(n)));
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  PointCloud pc;
+  pc.positions.reserve(n);
+  pc.normals.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    Eigen::Vector3d p, nrm;
+    if (u(rng) * area < ground) {
+      p = {6 * u(rng) - 3, 0.0, 6 * u(rng) - 3};
+      nrm = {0, -1, 0};
+    } else {
+      Eigen::Vector3d d(g(rng), -std::abs(g(rng)), g(rng));
+      d.normalize();
+      p = d;
+      nrm = d;
+    }
+    pc.positions.push_back(p.cast<float>());
+    pc.normals.push_back(nrm.cast<float>());
+  }
+  pc.radii.assign(n, radius);
+  return pc;
+}
+
+// A scene of `count` photos on a ring around the dome, looking at it, with generated pixels.
+Scene MakeScene(int count, int pw, int ph, const PointCloud& cloud, std::vector<cv::Mat>& images) {
+  Scene scene;
+  const double f = 0.5 * pw / std::tan(M_PI / 6.0);
+  scene.cameras[1] = Camera::Pinhole(1, pw, ph, f, f, 0.5 * pw, 0.5 * ph);
+  images.clear();
+  for (int i = 0; i < count; ++i) {
+    const double a = 2 * M_PI * i / count;
+    const double height = -1.5 - 0.5 * (i % 3);
+    Photo photo;
+    photo.id = i + 1;
+    photo.name = "bench_" + std::to_string(i) + ".png";
+    photo.image_path = photo.name;
+    photo.camera_id = 1;
+    photo.cam_from_world =
+        LookAt({4.0 * std::cos(a), height, 4.0 * std::sin(a)}, {0, -0.3, 0}, {0, -1, 0});
+    scene.photos.push_back(photo);
+    cv::Mat img(ph, pw, CV_8UC3);
+    cv::randu(img, cv::Scalar(0, 0, 0), cv::Scalar(255, 255, 255));
+    cv::GaussianBlur(img, img, cv::Size(0, 0), 2.0);
+    images.push_back(img);
+  }
+  scene.points = cloud;
+  scene.UpdateDerived();
+  return scene;
+}
+
+int Run(const BenchRenderOptions& opt) {
+  if (opt.frames < 1) throw UsageError("--frames must be >= 1");
+  if (opt.points <= 0) throw UsageError("--points must be positive");
+  std::vector<std::pair<int, int>> sizes;
+  for (const auto& s : Split(opt.sizes)) sizes.push_back(ParseWxH(s, "--sizes"));
+  const std::vector<int> photo_counts = ParseInts(opt.photos, "--photos", 1);
+  const std::vector<int> ks = ParseInts(opt.k_best, "--k-best", 0);
+  const auto [pw, ph] = ParseWxH(opt.photo_size, "--photo-size");
+
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const PointCloud cloud = MakeCloud(static_cast<size_t>(opt.points));
+  const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
+  nlohmann::json results = nlohmann::json::array();
+  std::printf("%-10s %6s %5s %10s %10s %10s %10s %8s\n", "size", "photos", "K", "depth_ms",
+              "blend_ms", "total_ms", "wall_ms", "valid%");
+  for (int count : photo_counts) {
+    std::vector<cv::Mat> images;
+    const Scene scene = MakeScene(count, pw, ph, cloud, images);
+    render::RendererOptions ro;
+    ro.photo_images = std::move(images);
+    const auto s0 = std::chrono::steady_clock::now();
+    render::Renderer renderer(shaders, scene, ro);
+    const double setup_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+    for (const auto& [w, h] : sizes) {
+      const double f = 0.5 * w / std::tan(M_PI / 6.0);
+      const Camera cam = Camera::Pinhole(1, w, h, f, f, 0.5 * w, 0.5 * h);
+      render::RenderTarget target = render::RenderTarget::Create(w, h);
+      for (int k : ks) {
+        renderer.blend_options().k_best = k >= count ? 0 : k;
+        renderer.Render(cam, cam_from_world, target);  // warm-up
+        double depth_ms = 0, blend_ms = 0;
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < opt.frames; ++i) {
+          renderer.Render(cam, cam_from_world, target);
+          depth_ms += renderer.last_times().depth_ms / opt.frames;
+          blend_ms += renderer.last_times().blend_ms / opt.frames;
+        }
+        const double wall_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count() /
+            opt.frames;
+        const render::RenderImages im = render::Renderer::Read(target);
+        const double valid = 100.0 * cv::countNonZero(im.valid) / (w * h);
+        const double mean_count = cv::countNonZero(im.valid) ? cv::mean(im.count, im.valid)[0] : 0;
+        char size_text[32];
+        std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
+        std::printf("%-10s %6d %5s %10.1f %10.1f %10.1f %10.1f %8.1f\n", size_text, count,
+                    k == 0 || k >= count ? "all" : std::to_string(k).c_str(), depth_ms, blend_ms,
+                    depth_ms + blend_ms, wall_ms, valid);
+        std::fflush(stdout);
+        results.push_back({{"width", w},
+                           {"height", h},
+                           {"photos", count},
+                           {"k_best", k >= count ? 0 : k},
+                           {"points", opt.points},
+                           {"photo_size", opt.photo_size},
+                           {"frames", opt.frames},
+                           {"depth_ms", depth_ms},
+                           {"blend_ms", blend_ms},
+                           {"wall_ms", wall_ms},
+                           {"valid_percent", valid},
+                           {"mean_photos_per_pixel", mean_count},
+                           {"setup_s", setup_s},
+                           {"gpu_bytes", renderer.gpu_bytes()}});
+      }
+    }
+  }
+  const nlohmann::json doc = {{"benchmark", "render"},
+                              {"renderer", context.Renderer()},
+                              {"note", "GPU times from GL timestamp queries; wall = CPU clock"},
+                              {"results", results}};
+  if (!opt.json.empty()) {
+    WriteFileAtomic(opt.json, doc.dump(2) + "\n");
+    std::printf("wrote %s\n", opt.json.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner SetupBenchRender(CLI::App& sub);
+HDRIBR_BENCH(render, "Renderer frame time: depth pass / blend pass vs size, photos, K best",
+             SetupBenchRender);
+
+CommandRunner SetupBenchRender(CLI::App& sub) {
+  auto opt = std::make_shared<BenchRenderOptions>();
+  sub.add_option("--sizes", opt->sizes, "Output sizes WxH, comma-separated")
+      ->default_val(opt->sizes);
+  sub.add_option("--photos", opt->photos, "Photo counts, comma-separated")
+      ->default_val(opt->photos);
+  sub.add_option("--k-best", opt->k_best, "K best values (0 = all), comma-separated")
+      ->default_val(opt->k_best);
+  sub.add_option("--points", opt->points, "Point count")->default_val(opt->points);
+  sub.add_option("--photo-size", opt->photo_size, "Size of the generated photos WxH")
+      ->default_val(opt->photo_size);
+  sub.add_option("--frames", opt->frames, "Timed frames per configuration")
+      ->default_val(opt->frames);
+  sub.add_option("--json", opt->json, "Also write the results as JSON to this file");
+  return [opt] { return Run(*opt); };
+}
+
+}  // namespace hdribr::cli

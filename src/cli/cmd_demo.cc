@@ -1,0 +1,194 @@
+// `hdribr demo [--out DIR] [--reconstruct]`: the README's first command. Makes the default
+// synthetic capture, its workspace (GT geometry, or the real front end), the HDR photo set, then
+// opens the viewer when a display is present, else renders a short tone-mapped orbit.
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <string>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "frontend/reconstruct.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "io/camera_spec.h"
+#include "io/image.h"
+#include "io/workspace.h"
+#include "render/hdr_photo_set.h"
+#include "render/hdr_render.h"
+#include "render/render_output.h"
+#include "render/tonemap_pass.h"
+#include "synth/capture.h"
+#include "viewer/app.h"
+#include "viewer/orbit.h"
+
+namespace hdribr::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DemoOptions {
+  std::string out = "hdribr-demo";
+  bool reconstruct = false;
+  bool headless = false;
+  int frames = 24;
+  int threads = 0;
+};
+
+double Since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Stage 1: the synthetic capture (reused when present: WriteCapture renames a complete capture
+// into place, so an existing folder with a workspace is complete).
+fs::path MakeCapture(const fs::path& out, int threads) {
+  const fs::path capture = out / "capture";
+  if (fs::exists(capture / "workspace" / "series.json")) {
+    std::printf("[1/4] capture: reusing %s\n", capture.c_str());
+    return capture;
+  }
+  if (fs::exists(capture) && !fs::is_empty(capture)) {
+    throw InputError(capture, "exists but is not a complete capture: remove it and run again");
+  }
+  std::printf("[1/4] capture: rendering the default synthetic scene into %s ...\n",
+              capture.c_str());
+  std::fflush(stdout);
+  synth::CaptureOptions co;
+  co.threads = threads;
+  const synth::CaptureSummary s = synth::WriteCapture(co, capture);
+  std::printf("      %d photos, %zu points, %.1f s\n", s.photos, s.points, s.total_seconds);
+  return capture;
+}
+
+// Stage 2: the workspace: the capture's own (GT cameras and points) or the front end's.
+fs::path MakeWorkspace(const fs::path& out, const fs::path& capture, bool reconstruct,
+                       int threads) {
+  if (!reconstruct) {
+    std::printf("[2/4] workspace: %s (ground-truth cameras and points)\n",
+                (capture / "workspace").c_str());
+    return capture / "workspace";
+  }
+  const fs::path workspace = out / "reconstructed";
+  std::printf("[2/4] workspace: reconstructing %s with COLMAP + dense MVS into %s ...\n",
+              (capture / "photos").c_str(), workspace.c_str());
+  std::fflush(stdout);
+  ReconstructOptions ro;
+  ro.photos = capture / "photos";
+  ro.workspace = workspace;
+  ro.threads = threads;
+  const ReconstructReport r = Reconstruct(ro);
+  std::printf("      %d/%d photos registered, %zu points\n", r.num_registered, r.num_photos,
+              r.num_points);
+  return workspace;
+}
+
+// Stage 3: the HDR photo set (reused when its index exists).
+void MakeHdrSet(const fs::path& workspace) {
+  const fs::path set = workspace / render::kHdrSetFolder;
+  if (fs::exists(set / render::kHdrSetIndex)) {
+    std::printf("[3/4] HDR photo set: reusing %s\n", set.c_str());
+    return;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  std::printf("[3/4] HDR photo set: calibrating the response and merging into %s ...\n",
+              set.c_str());
+  std::fflush(stdout);
+  const Scene scene = LoadWorkspace(workspace);
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  render::HdrPhotoSetOptions ho;
+  ho.progress = [](int i, int n) {
+    std::printf("      view %d/%d\r", i, n);  // i counts from 1
+    std::fflush(stdout);
+  };
+  const render::HdrPhotoSet s = render::BuildHdrPhotoSet(shaders, scene, ho);
+  std::printf("\n      %zu views, %zu series, %.1f s\n", s.views.size(), s.series_names.size(),
+              Since(t0));
+}
+
+// Stage 4 without a display: a tone-mapped orbit, PNG + EXR per frame, and its camera path.
+void RenderOrbit(const fs::path& workspace, const fs::path& out_dir, int frames) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene scene = LoadWorkspace(workspace);
+  const CameraPath path = viewer::OrbitPath(scene, frames);
+  std::printf("[4/4] no display: rendering a %d-frame orbit into %s ...\n", frames,
+              out_dir.c_str());
+  std::fflush(stdout);
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const render::LoadedHdrPhotoSet set =
+      render::LoadHdrPhotoSet(scene, workspace / render::kHdrSetFolder);
+  render::HdrRenderer renderer(shaders, scene, render::HdrMode::kPrecomputed, set.response, {},
+                               &set);
+  render::TonemapPass tonemap(shaders);
+  fs::create_directories(out_dir);
+  WriteCameraPath(out_dir / "path.json", path);
+  // One L_a for the whole orbit (that of the first frame), so that frames do not flicker.
+  std::optional<float> fixed_la;
+  for (int i = 0; i < path.FrameCount(); ++i) {
+    const View v = path.Frame(i);
+    render::TonemapOptions to;
+    to.fixed_log_average = fixed_la;
+    const render::ToneMappedFrame f = render::RenderToneMapped(
+        renderer, tonemap, v.camera, v.cam_from_world, v.camera.width, v.camera.height, to);
+    if (!fixed_la) fixed_la = f.log_average;
+    WriteImage(out_dir / (v.name + ".png"), f.display);
+    render::WriteRgbaExr(out_dir / (v.name + ".exr"), f.hdr.radiance, f.hdr.valid);
+    std::printf("      %s  %.0f ms\r", v.name.c_str(), f.hdr.ms);
+    std::fflush(stdout);
+  }
+  std::printf("\n      %.1f s\n", Since(t0));
+}
+
+int Run(const DemoOptions& opt) {
+  if (opt.frames < 1) throw UsageError("--frames must be >= 1");
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path out = fs::absolute(opt.out);
+  fs::create_directories(out);
+  const fs::path capture = MakeCapture(out, opt.threads);
+  const fs::path workspace = MakeWorkspace(out, capture, opt.reconstruct, opt.threads);
+  MakeHdrSet(workspace);
+  if (!opt.headless && viewer::CanOpenWindow()) {
+    std::printf("[4/4] opening the viewer (H for help) on %s\n", workspace.c_str());
+    viewer::ViewerOptions vo;
+    vo.workspace = workspace;
+    return viewer::RunViewer(vo);
+  }
+  const fs::path orbit = out / "orbit";
+  RenderOrbit(workspace, orbit, opt.frames);
+  std::printf(
+      "demo done in %.0f s.\n"
+      "  capture:   %s\n"
+      "  workspace: %s (HDR photo set in %s)\n"
+      "  orbit:     %s/frame_NNNN.png (tone-mapped), .exr (linear radiance), path.json\n"
+      "  view it:   hdribr view %s   (needs a display)\n",
+      Since(t0), capture.c_str(), workspace.c_str(), (workspace / "hdr").c_str(), orbit.c_str(),
+      workspace.c_str());
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner SetupDemo(CLI::App& sub);
+HDRIBR_COMMAND(demo, "One command: synthetic capture -> workspace -> HDR set -> viewer/orbit",
+               SetupDemo, 5);
+
+CommandRunner SetupDemo(CLI::App& sub) {
+  auto opt = std::make_shared<DemoOptions>();
+  sub.add_option("--out", opt->out, "Output folder (reused when it holds a complete capture)")
+      ->default_val("hdribr-demo");
+  sub.add_flag("--reconstruct", opt->reconstruct,
+               "Build the workspace with the real front end (COLMAP + MVS) instead of GT geometry");
+  sub.add_flag("--headless", opt->headless, "Render the orbit even when a display is present");
+  sub.add_option("--frames", opt->frames, "Frames of the headless orbit")->default_val(24);
+  sub.add_option("--threads", opt->threads, "Threads for the capture (0 = all cores)")
+      ->default_val(0);
+  return [opt] { return Run(*opt); };
+}
+
+}  // namespace hdribr::cli

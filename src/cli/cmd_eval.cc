@@ -1,0 +1,101 @@
+// `hdribr eval WORKSPACE (--leave-one-out | --gt CAPTURE)`: image quality of the renderer and
+// of two baselines (nearest-photo texturing, colour-per-point splats) on the same pixels.
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "eval/leave_one_out.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "io/workspace.h"
+
+namespace hdribr::cli {
+namespace {
+
+struct EvalCliOptions {
+  std::string workspace;
+  bool leave_one_out = false;
+  std::string gt;
+  std::vector<std::string> photos;
+  std::string series;
+  std::string out;
+  double size_scale = 0.5;
+  bool no_baselines = false;
+  std::string point_colors = "photos";
+  std::string depth_mode = "lechelek";
+  int max_photo_size = 0;
+  int k_best = 0;
+};
+
+int Run(const EvalCliOptions& opt) {
+  eval::EvalOptions options;
+  options.photos = opt.photos;
+  options.series = opt.series;
+  options.size_scale = opt.size_scale;
+  options.gt_capture = opt.gt;
+  options.out_dir = opt.out;
+  options.baselines = !opt.no_baselines;
+  options.point_colors = opt.point_colors;
+  options.renderer.depth.mode = render::ParseDepthMode(opt.depth_mode);
+  options.renderer.max_photo_size = opt.max_photo_size;
+  options.renderer.blend.k_best = opt.k_best;
+  if (!(opt.size_scale > 0.0 && opt.size_scale <= 1.0)) {
+    throw UsageError("--size-scale must be in (0, 1], got " + std::to_string(opt.size_scale));
+  }
+  const Scene scene = LoadWorkspace(opt.workspace);
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const eval::EvalReport report = eval::RunEvaluation(scene, shaders, options);
+  std::printf("%s of %s, series %s, %zu views (%s)\n", report.kind.c_str(), opt.workspace.c_str(),
+              report.series.c_str(), report.views.size(), context.Renderer().c_str());
+  std::printf("%s", eval::FormatMeanTable(report).c_str());
+  if (!opt.out.empty()) {
+    std::printf("wrote %s/eval.csv, eval.json and views/*.png\n", opt.out.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner SetupEval(CLI::App& sub);
+HDRIBR_COMMAND(eval, "Leave-one-out and ground-truth image quality, with baselines", SetupEval, 50);
+
+CommandRunner SetupEval(CLI::App& sub) {
+  auto opt = std::make_shared<EvalCliOptions>();
+  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  auto* loo = sub.add_flag("--leave-one-out", opt->leave_one_out,
+                           "Re-render each chosen photo from the other photos of its series");
+  auto* gt =
+      sub.add_option("--gt", opt->gt, "Synthetic capture folder: score its GT novel views instead");
+  loo->excludes(gt);
+  sub.add_option("--photos", opt->photos, "Held-out photos (default: all of the series)")
+      ->expected(1, -1);
+  sub.add_option("--series", opt->series,
+                 "Exposure series: name, index or all (default: the middle one)");
+  sub.add_option("--out", opt->out, "Output folder for eval.csv, eval.json, views/*.png");
+  sub.add_option("--size-scale", opt->size_scale, "Render size relative to the views' (0, 1]")
+      ->default_val(0.5);
+  sub.add_flag("--no-baselines", opt->no_baselines, "Score hdribr only");
+  sub.add_option("--point-colors", opt->point_colors,
+                 "Colours of the colour-per-point baseline: photos or cloud")
+      ->default_val("photos")
+      ->check(CLI::IsMember({"photos", "cloud"}));
+  sub.add_option("--depth-mode", opt->depth_mode, "plain, marroquim or lechelek")
+      ->default_val("lechelek")
+      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
+  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU");
+  sub.add_option("--k-best", opt->k_best, "Blend only the K best photos per pixel (0 = all)");
+  return [opt, loo, gt] {
+    if (loo->count() == 0 && gt->count() == 0) {
+      throw UsageError("eval: give --leave-one-out or --gt CAPTURE_DIR");
+    }
+    return Run(*opt);
+  };
+}
+
+}  // namespace hdribr::cli

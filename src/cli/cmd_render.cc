@@ -1,0 +1,381 @@
+// `hdribr render WORKSPACE --camera SPEC --out FILE.png|FILE.exr` and `--path PATH.json
+// --out-dir DIR`: offline image-based rendering of new views (Lechelek et al. 2019, sec. 4).
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "hdr/response_curve.h"
+#include "io/camera_spec.h"
+#include "io/image.h"
+#include "io/workspace.h"
+#include "render/hdr_photo_set.h"
+#include "render/hdr_render.h"
+#include "render/render_output.h"
+#include "render/renderer.h"
+#include "render/tonemap_pass.h"
+
+namespace hdribr::cli {
+namespace {
+
+struct RenderCliOptions {
+  std::string workspace;
+  std::string camera;
+  std::string path;
+  std::string out;
+  std::string out_dir;
+  std::string format = "png";
+  std::string size;
+  std::string debug;
+  std::vector<std::string> exclude;
+  int k_best = 0;
+  std::string mode = "blend";
+  std::string depth_mode = "lechelek";
+  int max_photo_size = 0;
+  float lambda = 1e-4f;
+  float tolerance = 0.01f;
+  // HDR (helper C): render mode and Reinhard tone mapping of the PNG output.
+  std::string hdr_mode;  // empty = LDR rendering
+  std::string hdr_set;   // default WORKSPACE/hdr
+  std::string response;  // default: the HDR set's response.json
+  double exposure_ev = 0;
+  double key = 0.18;
+  double gamma = 2.2;
+  double log_average = 0;  // 0 = computed per image on the GPU
+};
+
+cv::Size ParseSize(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w <= 0 || h <= 0 || w > 16384 || h > 16384) {
+    throw UsageError("--size must be WxH with positive integers, got '" + s + "'");
+  }
+  return {w, h};
+}
+
+// The blended colour as an 8-bit BGRA PNG image: value x 255 rounded (clamped), alpha 255 where
+// valid, everything 0 where invalid. Helper for display encodings of 8-bit photos.
+cv::Mat ToPng(const cv::Mat& color, const cv::Mat& valid) {
+  cv::Mat bgr8;
+  color.convertTo(bgr8, CV_8UC3, 255.0);  // saturate_cast rounds and clamps
+  cv::Mat out;
+  cv::cvtColor(bgr8, out, cv::COLOR_BGR2BGRA);
+  out.setTo(cv::Scalar(0, 0, 0, 0), valid == 0);
+  return out;
+}
+
+// Which debug image --debug asks for.
+struct DebugRequest {
+  enum Kind { kNone, kCount, kWeight, kDepth, kNormal } kind = kNone;
+  int photo = -1;
+};
+
+DebugRequest ParseDebug(const std::string& s, const Scene& scene) {
+  DebugRequest d;
+  if (s.empty()) return d;
+  if (s == "count") {
+    d.kind = DebugRequest::kCount;
+  } else if (s == "depth") {
+    d.kind = DebugRequest::kDepth;
+  } else if (s == "normal") {
+    d.kind = DebugRequest::kNormal;
+  } else if (s.rfind("weight:", 0) == 0) {
+    d.kind = DebugRequest::kWeight;
+    d.photo = scene.FindPhoto(s.substr(7));
+    if (d.photo < 0) throw UsageError("--debug " + s + ": no photo named '" + s.substr(7) + "'");
+  } else {
+    throw UsageError("--debug must be count, weight:PHOTO, depth or normal, got '" + s + "'");
+  }
+  return d;
+}
+
+// Writes the requested image: the colour (or a debug map) as PNG or EXR by extension.
+void WriteOutput(const std::filesystem::path& out, const render::RenderImages& im,
+                 const DebugRequest& debug, int photo_count) {
+  const bool exr = out.extension() == ".exr";
+  const cv::Mat depth_valid = im.depth > 0;
+  switch (debug.kind) {
+    case DebugRequest::kNone:
+      if (exr) {
+        render::WriteRgbaExr(out, im.color, im.valid);
+      } else {
+        WriteImage(out, ToPng(im.color, im.valid));
+      }
+      return;
+    case DebugRequest::kCount:
+      if (exr) {
+        render::WriteRgbaExr(
+            out,
+            [&] {
+              cv::Mat c;
+              cv::merge(std::vector<cv::Mat>{im.count, im.count, im.count}, c);
+              return c;
+            }(),
+            depth_valid);
+      } else {
+        WriteImage(out, render::FalseColour(im.count, 0, std::max(1, photo_count), depth_valid));
+      }
+      return;
+    case DebugRequest::kWeight:
+      if (exr) {
+        cv::Mat c;
+        cv::merge(std::vector<cv::Mat>{im.weight, im.weight, im.weight}, c);
+        render::WriteRgbaExr(out, c, im.valid);
+      } else {
+        WriteImage(out, render::FalseColour(im.weight, 0, 1, im.valid));
+      }
+      return;
+    case DebugRequest::kDepth: {
+      double lo = 0, hi = 0;
+      cv::minMaxLoc(im.depth, &lo, &hi, nullptr, nullptr, depth_valid);
+      if (exr) {
+        cv::Mat c;
+        cv::merge(std::vector<cv::Mat>{im.depth, im.depth, im.depth}, c);
+        render::WriteRgbaExr(out, c, depth_valid);
+      } else {
+        WriteImage(out, render::FalseColour(-im.depth, -hi, -lo, depth_valid));  // near = red
+      }
+      return;
+    }
+    case DebugRequest::kNormal: {
+      // Camera-space normal (x, y, z) stored as R, G, B; PNG maps [-1, 1] to [0, 255].
+      cv::Mat bgr;
+      cv::cvtColor(im.normal, bgr, cv::COLOR_RGB2BGR);
+      if (exr) {
+        render::WriteRgbaExr(out, bgr, depth_valid);
+      } else {
+        cv::Mat png;
+        bgr.convertTo(png, CV_8UC3, 127.5, 127.5);
+        png.setTo(cv::Scalar(0, 0, 0), depth_valid == 0);
+        WriteImage(out, png);
+      }
+      return;
+    }
+  }
+}
+
+void CheckOutputExtension(const std::filesystem::path& out) {
+  const auto ext = out.extension();
+  if (ext != ".png" && ext != ".exr") {
+    throw UsageError("--out must end in .png or .exr, got " + out.string());
+  }
+}
+
+// File-name-safe version of a view name ("sub/a.jpg" -> "sub_a").
+std::string SafeStem(const std::string& name) {
+  std::string s = std::filesystem::path(name).replace_extension().string();
+  for (char& c : s) {
+    if (c == '/' || c == '\\' || c == ' ' || c == ':') c = '_';
+  }
+  return s.empty() ? "view" : s;
+}
+
+// HDR rendering (issue 6): `--hdr-mode precomputed|onthefly|direct`; PNG = tone-mapped on the
+// GPU (Reinhard 2002, --exposure/--key/--gamma/--log-average), EXR = linear radiance + alpha.
+int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<View>& views) {
+  const render::HdrMode mode = render::ParseHdrMode(opt.hdr_mode);
+  if (!opt.debug.empty() || !opt.exclude.empty()) {
+    throw UsageError("--debug and --exclude are not available with --hdr-mode");
+  }
+  if (!(opt.key > 0) || !(opt.gamma > 0) || opt.log_average < 0 ||
+      !std::isfinite(opt.exposure_ev)) {
+    throw UsageError("--key and --gamma must be > 0, --log-average >= 0");
+  }
+  const std::filesystem::path set_dir =
+      opt.hdr_set.empty() ? std::filesystem::path(opt.workspace) / render::kHdrSetFolder
+                          : std::filesystem::path(opt.hdr_set);
+  std::optional<render::LoadedHdrPhotoSet> set;
+  ResponseCurve response;
+  if (!opt.response.empty()) response = ReadResponseCurve(opt.response);
+  if (mode == render::HdrMode::kPrecomputed || opt.response.empty()) {
+    set = render::LoadHdrPhotoSet(scene, set_dir);  // InputError naming hdr_set.json if absent
+  }
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  render::RendererOptions ro;
+  ro.depth.mode = render::ParseDepthMode(opt.depth_mode);
+  ro.max_photo_size = opt.max_photo_size;
+  ro.blend.mode =
+      opt.mode == "nearest" ? render::BlendMode::kNearestPhoto : render::BlendMode::kBlend;
+  ro.blend.k_best = opt.k_best;
+  ro.blend.lambda = opt.lambda;
+  ro.blend.occlusion_tolerance = opt.tolerance;
+  render::HdrRenderer renderer(shaders, scene, mode, response, ro, set ? &*set : nullptr);
+  render::TonemapPass tonemap(shaders);
+  render::TonemapOptions tm;
+  tm.key = static_cast<float>(opt.key);
+  tm.gamma = static_cast<float>(opt.gamma);
+  tm.exposure = static_cast<float>(std::exp2(opt.exposure_ev));
+  if (opt.log_average > 0) tm.fixed_log_average = static_cast<float>(opt.log_average);
+  std::printf("HDR mode %s, %zu photos, %zu points (%s)\n", render::HdrModeName(mode).c_str(),
+              scene.photos.size(), scene.points.size(), context.Renderer().c_str());
+  if (!opt.out_dir.empty()) std::filesystem::create_directories(opt.out_dir);
+  for (const View& view : views) {
+    const cv::Size size =
+        opt.size.empty() ? cv::Size(view.camera.width, view.camera.height) : ParseSize(opt.size);
+    const std::filesystem::path out = opt.out.empty() ? std::filesystem::path(opt.out_dir) /
+                                                            (SafeStem(view.name) + "." + opt.format)
+                                                      : std::filesystem::path(opt.out);
+    const render::ToneMappedFrame f = render::RenderToneMapped(
+        renderer, tonemap, view.camera, view.cam_from_world, size.width, size.height, tm);
+    if (out.extension() == ".exr") {
+      render::WriteRgbaExr(out, f.hdr.radiance, f.hdr.valid);
+    } else {
+      cv::Mat bgra;
+      cv::cvtColor(f.display, bgra, cv::COLOR_BGR2BGRA);
+      std::vector<cv::Mat> ch;
+      cv::split(bgra, ch);
+      ch[3] = f.hdr.valid.clone();
+      cv::merge(ch, bgra);
+      WriteImage(out, bgra);
+    }
+    const int valid = cv::countNonZero(f.hdr.valid);
+    if (valid == 0) spdlog::warn("view {}: the image is all invalid", view.name);
+    std::printf("view %s  %dx%d  valid %.2f%%  L_a %.4g  %.1f ms -> %s\n", view.name.c_str(),
+                size.width, size.height, 100.0 * valid / (size.width * size.height), f.log_average,
+                f.hdr.ms, out.c_str());
+  }
+  return 0;
+}
+
+int Run(const RenderCliOptions& opt) {
+  if (opt.camera.empty() == opt.path.empty()) {
+    throw UsageError(
+        "render: give either --camera SPEC (with --out) or --path PATH (with --out-dir)");
+  }
+  if (!opt.camera.empty() && opt.out.empty()) throw UsageError("render: --camera needs --out");
+  if (!opt.path.empty() && opt.out_dir.empty()) throw UsageError("render: --path needs --out-dir");
+  if (!opt.out.empty()) CheckOutputExtension(opt.out);
+  if (opt.k_best < 0) throw UsageError("--k-best must be >= 0 (0 = all photos)");
+  if (opt.max_photo_size < 0) throw UsageError("--max-photo-size must be >= 0");
+  const render::DepthMode depth_mode = render::ParseDepthMode(opt.depth_mode);
+
+  const Scene scene = LoadWorkspace(opt.workspace);
+  if (scene.photos.empty()) throw InputError(opt.workspace, "the workspace has no photos");
+  const DebugRequest debug = ParseDebug(opt.debug, scene);
+  std::vector<View> views;
+  if (!opt.camera.empty()) {
+    views.push_back(ParseCameraSpec(opt.camera, scene));
+  } else {
+    const CameraPath path = ReadCameraPath(opt.path);
+    for (int i = 0; i < path.FrameCount(); ++i) views.push_back(path.Frame(i));
+  }
+  std::vector<bool> excluded(scene.photos.size(), false);
+  for (const std::string& name : opt.exclude) {
+    const int i = scene.FindPhoto(name);
+    if (i < 0) throw UsageError("--exclude: no photo named '" + name + "'");
+    excluded[static_cast<size_t>(i)] = true;
+  }
+  std::vector<int> active;
+  for (size_t i = 0; i < scene.photos.size(); ++i) {
+    if (!excluded[i]) active.push_back(static_cast<int>(i));
+  }
+  if (active.empty()) spdlog::warn("every photo is excluded: the output is all invalid");
+  if (!opt.hdr_mode.empty()) return RunHdr(opt, scene, views);
+
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  render::RendererOptions ro;
+  ro.depth.mode = depth_mode;
+  ro.max_photo_size = opt.max_photo_size;
+  ro.blend.mode =
+      opt.mode == "nearest" ? render::BlendMode::kNearestPhoto : render::BlendMode::kBlend;
+  ro.blend.k_best = opt.k_best;
+  ro.blend.lambda = opt.lambda;
+  ro.blend.occlusion_tolerance = opt.tolerance;
+  ro.blend.debug_photo = debug.photo;
+  render::Renderer renderer(shaders, scene, ro);
+  renderer.SetActivePhotos(active);
+  std::printf("%zu photos (%zu active), %zu points, GPU memory %.1f MiB (%s)\n",
+              scene.photos.size(), active.size(), scene.points.size(),
+              renderer.gpu_bytes() / 1048576.0, context.Renderer().c_str());
+
+  if (!opt.out_dir.empty()) std::filesystem::create_directories(opt.out_dir);
+  for (const View& view : views) {
+    const cv::Size size =
+        opt.size.empty() ? cv::Size(view.camera.width, view.camera.height) : ParseSize(opt.size);
+    const render::RenderImages im =
+        renderer.RenderToImages(view.camera, view.cam_from_world, size.width, size.height);
+    const std::filesystem::path out = opt.out.empty() ? std::filesystem::path(opt.out_dir) /
+                                                            (SafeStem(view.name) + "." + opt.format)
+                                                      : std::filesystem::path(opt.out);
+    WriteOutput(out, im, debug, static_cast<int>(active.size()));
+    const int valid = cv::countNonZero(im.valid);
+    const double mean_count = valid ? cv::mean(im.count, im.valid)[0] : 0.0;
+    if (valid == 0) {
+      spdlog::warn("view {}: no pixel sees a surface seen by a photo: the image is all invalid",
+                   view.name);
+    }
+    std::printf(
+        "view %s  %dx%d  valid %.2f%%  mean photos/pixel %.2f  depth %.1f ms  blend %.1f ms  "
+        "-> %s\n",
+        view.name.c_str(), size.width, size.height, 100.0 * valid / (size.width * size.height),
+        mean_count, renderer.last_times().depth_ms, renderer.last_times().blend_ms, out.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner SetupRender(CLI::App& sub);
+HDRIBR_COMMAND(render, "Render new views by blending the photos (PNG / EXR)", SetupRender, 40);
+
+CommandRunner SetupRender(CLI::App& sub) {
+  auto opt = std::make_shared<RenderCliOptions>();
+  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  auto* camera = sub.add_option(
+      "--camera", opt->camera,
+      "View: a photo name, \"QW QX QY QZ TX TY TZ [CAMERA_ID [NAME]]\" or a camera file (.json)");
+  auto* path = sub.add_option("--path", opt->path, "Camera path (JSON, docs/formats.md)");
+  camera->excludes(path);
+  sub.add_option("--out", opt->out, "Output image (.png: 8-bit + alpha; .exr: float RGBA)");
+  sub.add_option("--out-dir", opt->out_dir, "Output folder for --path (frame_NNNN.FORMAT)");
+  sub.add_option("--format", opt->format, "Frame format for --path")
+      ->check(CLI::IsMember({"png", "exr"}));
+  sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)");
+  sub.add_option("--debug", opt->debug,
+                 "Write a debug map instead of the colour: count, weight:PHOTO, depth, normal");
+  sub.add_option("--exclude", opt->exclude, "Photos left out (names)");
+  sub.add_option("--k-best", opt->k_best, "Blend only the K best photos per pixel (0 = all)")
+      ->default_val(0);
+  sub.add_option("--mode", opt->mode, "blend (the paper) or nearest (single nearest photo)")
+      ->default_val("blend")
+      ->check(CLI::IsMember({"blend", "nearest"}));
+  sub.add_option("--depth-mode", opt->depth_mode, "Depth pass: plain, marroquim or lechelek")
+      ->default_val("lechelek")
+      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
+  sub.add_option("--max-photo-size", opt->max_photo_size,
+                 "Longest side of photos on the GPU (0 = full size)")
+      ->default_val(0);
+  sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold on N . V_k")->default_val(1e-4);
+  sub.add_option("--tolerance", opt->tolerance, "Relative depth tolerance of the occlusion test")
+      ->default_val(0.01);
+  sub.add_option("--hdr-mode", opt->hdr_mode,
+                 "HDR rendering: precomputed (HDR photo set), onthefly or direct")
+      ->check(CLI::IsMember({"precomputed", "onthefly", "direct"}));
+  sub.add_option("--hdr-set", opt->hdr_set, "HDR photo set folder (default WORKSPACE/hdr)");
+  sub.add_option("--response", opt->response,
+                 "Response curve for onthefly/direct (default: the HDR set's)");
+  sub.add_option("--exposure", opt->exposure_ev, "Tone mapping: exposure in EV (x 2^EV)")
+      ->capture_default_str();
+  sub.add_option("--key", opt->key, "Tone mapping: Reinhard key k")->capture_default_str();
+  sub.add_option("--gamma", opt->gamma, "Tone mapping: display gamma")->capture_default_str();
+  sub.add_option("--log-average", opt->log_average,
+                 "Tone mapping: fixed log-average luminance L_a (0 = per image, on the GPU)")
+      ->capture_default_str();
+  return [opt] { return Run(*opt); };
+}
+
+}  // namespace hdribr::cli

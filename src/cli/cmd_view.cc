@@ -1,0 +1,78 @@
+// `hdribr view WORKSPACE`: the interactive viewer (src/viewer), also scriptable for tests and
+// headless use (--frames N --screenshot FILE).
+#include <memory>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "viewer/app.h"
+
+namespace hdribr::cli {
+
+CommandRunner SetupView(CLI::App& sub);
+HDRIBR_COMMAND(view, "Interactive viewer: walk around the capture, live exposure", SetupView, 70);
+
+CommandRunner SetupView(CLI::App& sub) {
+  auto opt = std::make_shared<viewer::ViewerOptions>();
+  auto tonemap = std::make_shared<std::string>("auto");
+  auto gamma = std::make_shared<float>(0.0f);
+  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  sub.add_option("--camera", opt->camera,
+                 "Initial view: photo name, \"QW QX QY QZ TX TY TZ [CAMERA_ID]\" or camera file");
+  sub.add_option("--width", opt->width, "Window width (default: the camera's, <= 1280)");
+  sub.add_option("--height", opt->height, "Window height");
+  sub.add_option("--hdr", opt->hdr, "Source: auto, ldr, precomputed, onthefly, direct")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "ldr", "precomputed", "onthefly", "direct"}));
+  sub.add_option("--series", opt->series, "LDR: blend only this exposure series (-1 = all)")
+      ->default_val(-1);
+  sub.add_option("--depth-mode", opt->depth_mode, "plain, marroquim or lechelek")
+      ->default_val("lechelek")
+      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
+  sub.add_option("--k-best", opt->k_best, "Blend only the K best photos (0 = all)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold")->default_val(1e-4);
+  sub.add_option("--tolerance", opt->tolerance, "Occlusion tolerance (relative depth)")
+      ->default_val(0.01);
+  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  sub.add_option("--tonemap", *tonemap, "Reinhard tone mapping: auto (on for HDR), on, off")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  sub.add_option("--exposure", opt->exposure_ev, "Exposure in EV (stops)")->default_val(0);
+  sub.add_option("--key", opt->key, "Reinhard key")->default_val(0.18);
+  sub.add_option("--gamma", *gamma, "Display gamma (default 2.2 for HDR, 1 for LDR)");
+  sub.add_option("--frames", opt->frames, "Scripted: exit after N frames (0 = interactive)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  sub.add_option("--screenshot", opt->screenshot,
+                 "Scripted: write the last frame (.png tone-mapped + .exr linear)");
+  sub.add_option("--window-screenshot", opt->window_screenshot,
+                 "Scripted: write the whole window (picture + UI) of the last frame (.png)");
+  sub.add_flag("--help-overlay", opt->show_help, "Open the key help overlay at start");
+  sub.add_flag("--frustums", opt->show_frustums, "Draw the input camera frustums at start");
+  sub.add_option("--play", opt->play, "Play this camera path (JSON) from the start");
+  sub.add_option("--record", opt->record, "Where R saves the recorded path (hdribr_path.json)");
+  sub.add_flag("--benchmark", opt->benchmark,
+               "Print the cost of an exposure change vs a camera move, then exit");
+  sub.add_flag("--hidden", opt->hidden, "Invisible window (tests)");
+  return [opt, tonemap, gamma] {
+    if (*tonemap != "auto") opt->tonemap = *tonemap == "on";
+    if (*gamma != 0) {
+      if (*gamma < 0.1f || *gamma > 10) throw UsageError("--gamma must be in [0.1, 10]");
+      opt->gamma = *gamma;
+    }
+    if ((!opt->screenshot.empty() || !opt->window_screenshot.empty()) && opt->frames == 0) {
+      opt->frames = 3;
+    }
+    if (opt->benchmark && opt->frames == 0) opt->frames = 2;
+    const auto ext = opt->screenshot.extension();
+    if (!opt->screenshot.empty() && ext != ".png" && ext != ".exr") {
+      throw UsageError("--screenshot must end in .png or .exr, got " + opt->screenshot.string());
+    }
+    return viewer::RunViewer(*opt);
+  };
+}
+
+}  // namespace hdribr::cli

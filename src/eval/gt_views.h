@@ -1,0 +1,39 @@
+// Ground truth of synthetic captures (`hdribr synth`): the novel test views and the
+// conversion of their radiance to the 8-bit values the capture's camera would record.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
+#include "core/rigid3.h"
+#include "synth/camera_response.h"
+
+namespace hdribr::eval {
+
+// One ground-truth novel view: pose, camera and linear radiance file (CV_32FC3 BGR EXR).
+struct GtView {
+  std::string name;  // "novel_03" (the image name without extension)
+  Camera camera;
+  Rigid3d cam_from_world;
+  std::filesystem::path radiance_path;
+};
+
+// The novel views of a capture folder (CAPTURE/gt/novel: COLMAP TEXT model, radiance/*.exr),
+// in image-id order. Throws InputError naming the folder or file when something is missing.
+std::vector<GtView> ReadGtNovelViews(const std::filesystem::path& capture_dir);
+
+// The capture's true response (gamma, knee, x_sat from CAPTURE/gt/capture.json), noise
+// parameters included (not used by RadianceToLdr). Throws InputError on a bad file.
+synth::SyntheticResponse ReadCaptureResponse(const std::filesystem::path& capture_dir);
+
+// 8-bit BGR image of linear BGR radiance exposed for `time_s` seconds through the response,
+// without noise: z = round(ValueFromExposure(c, L t)), exactly as the capture's photos were
+// made (synth/capture.cc) minus noise and JPEG.
+cv::Mat RadianceToLdr(const cv::Mat& radiance, const synth::SyntheticResponse& response,
+                      double time_s);
+
+}  // namespace hdribr::eval

@@ -1,0 +1,311 @@
+#include "eval/leave_one_out.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "eval/gt_views.h"
+#include "eval/point_colors.h"
+#include "io/exr.h"
+#include "io/image.h"
+#include "render/point_color_pass.h"
+#include "render/readback.h"
+
+namespace hdribr::eval {
+namespace {
+
+// A view to evaluate: where it is seen from, its reference picture and the photos that render
+// it (all of its series but itself in leave-one-out).
+struct EvalView {
+  std::string name;
+  Camera camera;
+  Rigid3d cam_from_world;
+  int series = -1;
+  int held_out = -1;  // photo index, -1 for GT views
+  std::filesystem::path gt_radiance;
+};
+
+cv::Size ScaledSize(const Camera& camera, double scale) {
+  return {std::max(1, static_cast<int>(std::lround(camera.width * scale))),
+          std::max(1, static_cast<int>(std::lround(camera.height * scale)))};
+}
+
+cv::Mat ResizeTo(const cv::Mat& image, cv::Size size) {
+  if (image.size() == size) return image;
+  cv::Mat out;
+  cv::resize(image, out, size, 0, 0, cv::INTER_AREA);
+  return out;
+}
+
+std::string FileStem(const std::string& name) {
+  std::string s = std::filesystem::path(name).replace_extension().string();
+  std::replace(s.begin(), s.end(), '/', '_');
+  std::replace(s.begin(), s.end(), '\\', '_');
+  return s;
+}
+
+std::vector<int> SeriesPhotos(const Scene& scene, int series) {
+  return scene.series[static_cast<size_t>(series)].photo_indices;
+}
+
+// Colour-per-point colours for one series: every photo of the series sampled once at the
+// evaluation scale; Colors(held_out) then leaves the held-out photo out.
+class SeriesPointColors {
+ public:
+  SeriesPointColors(const Scene& scene, render::Renderer& renderer, int series, double scale,
+                    float tolerance)
+      : sampler_(scene.points) {
+    size_t total = 0;
+    for (int i : SeriesPhotos(scene, series)) {
+      const Photo& photo = scene.photos[static_cast<size_t>(i)];
+      const Camera& camera = scene.CameraOf(photo);
+      const cv::Size size = ScaledSize(camera, scale);
+      render::DepthTarget target = render::DepthTarget::Create(size.width, size.height);
+      renderer.depth_pass().Process(camera, photo.cam_from_world, target);
+      const cv::Mat depth = render::ReadTextureR32F(target.depth);
+      const cv::Mat image = ResizeTo(ReadImage(photo.image_path), size);
+      total += sampler_.AddPhoto(i, image, depth, camera, photo.cam_from_world, tolerance);
+    }
+    spdlog::info("point colours of series {}: {} samples over {} points", series, total,
+                 scene.points.size());
+  }
+  std::vector<Eigen::Vector3f> Colors(int exclude) const { return sampler_.Colors(exclude); }
+
+ private:
+  PointColorSampler sampler_;
+};
+
+std::vector<Eigen::Vector3f> CloudColors(const PointCloud& cloud) {
+  std::vector<Eigen::Vector3f> out(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const auto& c = cloud.colors[i];  // RGB
+    out[i] = Eigen::Vector3f(c[2], c[1], c[0]) / 255.0f;
+  }
+  return out;
+}
+
+// Series exposure time (seconds) for converting GT radiance: the photos' EXIF time.
+double SeriesTime(const Scene& scene, int series) {
+  for (int i : SeriesPhotos(scene, series)) {
+    const Exposure& e = scene.photos[static_cast<size_t>(i)].exposure;
+    if (e.time_s) return *e.time_s;
+  }
+  throw UsageError("series '" + scene.series[static_cast<size_t>(series)].name +
+                   "' has no exposure time: cannot convert the GT radiance");
+}
+
+}  // namespace
+
+int ResolveSeries(const Scene& scene, const std::string& name_or_index) {
+  if (scene.series.empty()) throw UsageError("the workspace has no exposure series");
+  if (name_or_index.empty()) return static_cast<int>(scene.series.size() - 1) / 2;
+  for (size_t s = 0; s < scene.series.size(); ++s) {
+    if (scene.series[s].name == name_or_index) return static_cast<int>(s);
+  }
+  if (!name_or_index.empty() &&
+      name_or_index.find_first_not_of("0123456789") == std::string::npos) {
+    const int s = std::stoi(name_or_index);
+    if (s >= 0 && s < static_cast<int>(scene.series.size())) return s;
+  }
+  std::string names;
+  for (const ExposureSeries& s : scene.series) names += (names.empty() ? "" : ", ") + s.name;
+  throw UsageError("unknown series '" + name_or_index + "' (have: " + names + ", or an index)");
+}
+
+EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
+                         const EvalOptions& options) {
+  if (!(options.size_scale > 0.0 && options.size_scale <= 1.0)) {
+    throw UsageError("--size-scale must be in (0, 1]");
+  }
+  if (options.point_colors != "photos" && options.point_colors != "cloud") {
+    throw UsageError("--point-colors must be 'photos' or 'cloud'");
+  }
+  if (options.baselines && options.point_colors == "cloud" && !scene.points.HasColors()) {
+    throw UsageError("--point-colors cloud: the point cloud has no colours");
+  }
+  if (scene.points.empty()) throw UsageError("the workspace has no points: nothing to render");
+  const bool gt = !options.gt_capture.empty();
+  // "all" (leave-one-out only): every photo, each rendered from the rest of its own series.
+  const bool all_series = options.series == "all";
+  if (all_series && gt) throw UsageError("--series all applies to --leave-one-out only");
+  const int default_series = ResolveSeries(scene, all_series ? "" : options.series);
+
+  // The views.
+  std::vector<EvalView> views;
+  if (gt) {
+    if (!options.photos.empty()) throw UsageError("--photos applies to --leave-one-out only");
+    for (const GtView& g : ReadGtNovelViews(options.gt_capture)) {
+      views.push_back({g.name, g.camera, g.cam_from_world, default_series, -1, g.radiance_path});
+    }
+  } else {
+    std::vector<int> chosen;
+    if (options.photos.empty() && all_series) {
+      for (size_t i = 0; i < scene.photos.size(); ++i) chosen.push_back(static_cast<int>(i));
+    } else if (options.photos.empty()) {
+      chosen = SeriesPhotos(scene, default_series);
+    } else {
+      for (const std::string& name : options.photos) {
+        const int i = scene.FindPhoto(name);
+        if (i < 0) throw UsageError("no photo named '" + name + "' in the workspace");
+        chosen.push_back(i);
+      }
+    }
+    for (int i : chosen) {
+      const Photo& p = scene.photos[static_cast<size_t>(i)];
+      if (p.series_id < 0) throw UsageError("photo '" + p.name + "' belongs to no series");
+      views.push_back({p.name, scene.CameraOf(p), p.cam_from_world, p.series_id, i, {}});
+    }
+  }
+  // A photo alone in its series cannot be rendered from its own exposure: an error when it
+  // was asked for, skipped (and listed in the report's settings) with --series all.
+  std::string skipped;
+  std::erase_if(views, [&](const EvalView& v) {
+    std::vector<int> active = SeriesPhotos(scene, v.series);
+    std::erase(active, v.held_out);
+    if (!active.empty()) return false;
+    if (!all_series) {
+      throw UsageError("view '" + v.name + "': its series has no other photo to render from");
+    }
+    spdlog::warn("skipping {}: the only photo of its series", v.name);
+    skipped += (skipped.empty() ? "" : " ") + v.name;
+    return true;
+  });
+  if (views.empty()) throw UsageError("no views to evaluate (empty selection)");
+
+  std::unique_ptr<synth::SyntheticResponse> response;
+  if (gt) {
+    response = std::make_unique<synth::SyntheticResponse>(ReadCaptureResponse(options.gt_capture));
+  }
+  render::Renderer renderer(shaders, scene, options.renderer);
+  std::unique_ptr<render::PointColorPass> point_pass;
+  if (options.baselines) point_pass = std::make_unique<render::PointColorPass>(shaders);
+  std::map<int, std::unique_ptr<SeriesPointColors>> series_colors;
+  std::vector<Eigen::Vector3f> cloud_colors;
+  if (options.baselines && options.point_colors == "cloud") {
+    cloud_colors = CloudColors(scene.points);
+    point_pass->SetPoints(scene.points, cloud_colors);
+  }
+
+  EvalReport report;
+  report.kind = gt ? "gt-novel" : "leave-one-out";
+  report.workspace = scene.workspace.string();
+  report.series = all_series ? "all" : scene.series[static_cast<size_t>(default_series)].name;
+  report.settings["size_scale"] = std::to_string(options.size_scale);
+  report.settings["point_colors"] = options.point_colors;
+  report.settings["common_mask"] =
+      "intersection of every method's valid pixels" + std::string(gt ? " and GT non-sky" : "");
+  if (gt) report.settings["gt_capture"] = options.gt_capture.string();
+  if (!skipped.empty()) report.settings["skipped_alone_in_series"] = skipped;
+  if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir / "views");
+
+  const render::BlendMode mode = renderer.blend_options().mode;
+  for (const EvalView& v : views) {
+    const cv::Size size = ScaledSize(v.camera, options.size_scale);
+    std::vector<int> active = SeriesPhotos(scene, v.series);
+    std::erase(active, v.held_out);
+    renderer.SetActivePhotos(active);
+
+    // Reference picture.
+    cv::Mat reference;
+    cv::Mat reference_mask;
+    if (gt) {
+      const cv::Mat radiance = ReadExr(v.gt_radiance);
+      if (radiance.type() != CV_32FC3) throw InputError(v.gt_radiance, "expected RGB radiance");
+      const double t = SeriesTime(scene, v.series);
+      reference = ResizeTo(RadianceToLdr(radiance, *response, t), size);
+      // Sky (no surface) has no points behind it: compared only where the GT depth is valid.
+      const std::filesystem::path depth_path =
+          v.gt_radiance.parent_path().parent_path() / "depth" / v.gt_radiance.filename();
+      if (std::filesystem::exists(depth_path)) {
+        const cv::Mat depth = ReadExr(depth_path);
+        cv::Mat surface = depth > 0;
+        cv::resize(surface, reference_mask, size, 0, 0, cv::INTER_NEAREST);
+      }
+    } else {
+      reference =
+          ResizeTo(ReadImage(scene.photos[static_cast<size_t>(v.held_out)].image_path), size);
+    }
+
+    struct MethodImage {
+      std::string method;
+      cv::Mat color8;
+      cv::Mat valid;
+    };
+    std::vector<MethodImage> images;
+    renderer.blend_options().mode = mode;
+    render::RenderImages r =
+        renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
+    images.push_back({"hdribr", ToLdr8(r.color), r.valid});
+    if (options.baselines) {
+      renderer.blend_options().mode = render::BlendMode::kNearestPhoto;
+      r = renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
+      renderer.blend_options().mode = mode;
+      images.push_back({"nearest_photo", ToLdr8(r.color), r.valid});
+      if (options.point_colors == "photos") {
+        auto& sc = series_colors[v.series];
+        if (!sc) {
+          sc = std::make_unique<SeriesPointColors>(scene, renderer, v.series, options.size_scale,
+                                                   options.point_color_tolerance);
+        }
+        point_pass->SetPoints(scene.points, sc->Colors(v.held_out));
+      }
+      const render::PointColorImages p =
+          point_pass->Render(v.camera, v.cam_from_world, size.width, size.height);
+      images.push_back({"point_colors", ToLdr8(p.color), p.valid});
+    }
+
+    std::vector<cv::Mat> masks;
+    for (const MethodImage& m : images) masks.push_back(m.valid);
+    if (!reference_mask.empty()) masks.push_back(reference_mask);
+    const cv::Mat common = CommonMask(masks);
+    ViewReport vr;
+    vr.name = v.name;
+    vr.width = size.width;
+    vr.height = size.height;
+    const double total = static_cast<double>(size.area());
+    for (const MethodImage& m : images) {
+      MethodScores s;
+      s.method = m.method;
+      if (cv::countNonZero(common) > 0) s.scores = CompareImages(reference, m.color8, common);
+      s.own_coverage = cv::countNonZero(m.valid) / total;
+      vr.methods.push_back(s);
+    }
+    std::string line = "view " + v.name + ":";
+    for (const MethodScores& s : vr.methods) {
+      line += fmt::format("  {} {:.2f} dB", s.method, s.scores.psnr_db);
+    }
+    spdlog::info("{} (common {:.1f}%)", line, 100.0 * cv::countNonZero(common) / total);
+    report.views.push_back(vr);
+
+    if (!options.out_dir.empty()) {
+      std::vector<cv::Mat> top = {reference};
+      std::vector<std::string> top_captions = {gt ? "ground truth" : "photo (held out)"};
+      cv::Mat mask_panel;
+      cv::cvtColor(common, mask_panel, cv::COLOR_GRAY2BGR);
+      std::vector<cv::Mat> bottom = {mask_panel};
+      std::vector<std::string> bottom_captions = {"common mask"};
+      for (size_t k = 0; k < images.size(); ++k) {
+        top.push_back(images[k].color8);
+        top_captions.push_back(images[k].method +
+                               fmt::format(" {:.2f} dB", vr.methods[k].scores.psnr_db));
+        bottom.push_back(ErrorMap(reference, images[k].color8, common));
+        bottom_captions.push_back("|error| " + images[k].method);
+      }
+      cv::Mat sheet;
+      cv::vconcat(SideBySide(top, top_captions, common), SideBySide(bottom, bottom_captions),
+                  sheet);
+      WriteImage(options.out_dir / "views" / (FileStem(v.name) + ".png"), sheet);
+    }
+  }
+  if (!options.out_dir.empty()) {
+    WriteReport(report, options.out_dir / "eval.csv", options.out_dir / "eval.json");
+  }
+  return report;
+}
+
+}  // namespace hdribr::eval

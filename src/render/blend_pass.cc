@@ -1,0 +1,131 @@
+#include "render/blend_pass.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+
+#include "core/error.h"
+
+namespace hdribr::render {
+namespace {
+
+// std430 mirror of PhotoGpu in shaders/blend.comp.
+struct PhotoGpu {
+  float cam_from_world[16];
+  float intrinsics[4];
+  float center[4];
+  float size[4];
+  float tex[4];
+  float dmap[4];
+};
+static_assert(sizeof(PhotoGpu) == 36 * 4);
+
+}  // namespace
+
+BlendPass::BlendPass(const gl::ShaderLibrary& shaders)
+    : program_(shaders.Build({"blend.comp"}, {{"MAX_K", std::to_string(kMaxKBest)}})) {}
+
+void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
+                          const PhotoDepthMaps& depth_maps) {
+  std::vector<PhotoGpu> gpu(std::max<size_t>(1, scene.photos.size()));
+  for (size_t i = 0; i < scene.photos.size(); ++i) {
+    const Photo& photo = scene.photos[i];
+    const Camera& cam = scene.CameraOf(photo);
+    PhotoGpu& g = gpu[i];
+    const Eigen::Matrix4f m = photo.cam_from_world.Matrix4().cast<float>();
+    std::copy(m.data(), m.data() + 16, g.cam_from_world);  // column-major like GLSL
+    g.intrinsics[0] = static_cast<float>(cam.fx());
+    g.intrinsics[1] = static_cast<float>(cam.fy());
+    g.intrinsics[2] = static_cast<float>(cam.cx());
+    g.intrinsics[3] = static_cast<float>(cam.cy());
+    const Eigen::Vector3d c = photo.Center();
+    double relative = photo.exposure.Relative();
+    if (photo.series_id >= 0 && static_cast<size_t>(photo.series_id) < scene.series.size()) {
+      relative = scene.series[static_cast<size_t>(photo.series_id)].relative_exposure;
+    }
+    g.center[0] = static_cast<float>(c.x());
+    g.center[1] = static_cast<float>(c.y());
+    g.center[2] = static_cast<float>(c.z());
+    g.center[3] = relative > 0 ? static_cast<float>(1.0 / relative) : 1.0f;
+    const cv::Size ts = textures.layer_size(static_cast<int>(i));
+    const double texels_per_px = static_cast<double>(ts.width) / cam.width;
+    g.size[0] = static_cast<float>(cam.width);
+    g.size[1] = static_cast<float>(cam.height);
+    g.size[2] = static_cast<float>(texels_per_px);
+    g.tex[0] = static_cast<float>(static_cast<double>(ts.width) / cam.width / textures.width());
+    g.tex[1] = static_cast<float>(static_cast<double>(ts.height) / cam.height / textures.height());
+    g.tex[2] = static_cast<float>((ts.width - 0.5) / textures.width());
+    g.tex[3] = static_cast<float>((ts.height - 0.5) / textures.height());
+    const cv::Size ds = depth_maps.layer_size(static_cast<int>(i));
+    g.dmap[0] = static_cast<float>(static_cast<double>(ds.width) / cam.width);
+    g.dmap[1] = static_cast<float>(static_cast<double>(ds.height) / cam.height);
+    g.dmap[2] = static_cast<float>(ds.width);
+    g.dmap[3] = static_cast<float>(ds.height);
+  }
+  photos_ = gl::Buffer(gpu.size() * sizeof(PhotoGpu), gpu.data());
+  photo_texture_ = textures.id();
+  depth_maps_ = depth_maps.depth().id();
+  photo_count_ = static_cast<int>(scene.photos.size());
+  inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
+  std::vector<int> all(scene.photos.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  SetActive(all);
+}
+
+void BlendPass::SetActive(const std::vector<int>& photo_indices) {
+  for (int i : photo_indices) {
+    if (i < 0 || i >= photo_count_) {
+      throw UsageError("active photo index " + std::to_string(i) + " out of range (" +
+                       std::to_string(photo_count_) + " photos)");
+    }
+  }
+  std::vector<int> list = photo_indices;
+  if (list.empty()) list.push_back(0);  // the buffer needs a byte; active_count_ stays 0
+  active_ = gl::Buffer(list.size() * sizeof(int), list.data());
+  active_count_ = static_cast<int>(photo_indices.size());
+}
+
+void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
+                        const DepthTarget& depth, const BlendOptions& options,
+                        const gl::Texture* response, gl::Texture& color, gl::Texture& aux) const {
+  HDRIBR_CHECK(color.width() == depth.width() && color.height() == depth.height());
+  if (options.encoding == PhotoEncoding::kRadiance && response == nullptr) {
+    throw UsageError("radiance blending needs a response curve (RendererOptions::response)");
+  }
+  // K >= the active photos is all of them (exactly); otherwise K is bounded by MAX_K.
+  const int k_best = options.k_best >= active_count_ ? 0 : options.k_best;
+  if (k_best < 0 || k_best > kMaxKBest) {
+    throw UsageError("k_best must be 0 (all) or 1.." + std::to_string(kMaxKBest) + ", got " +
+                     std::to_string(options.k_best));
+  }
+  const GLuint p = program_.id();
+  const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
+  glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
+  const float intr[4] = {static_cast<float>(camera.fx()), static_cast<float>(camera.fy()),
+                         static_cast<float>(camera.cx()), static_cast<float>(camera.cy())};
+  glProgramUniform4fv(p, 1, 1, intr);
+  glProgramUniform2i(p, 2, depth.width(), depth.height());
+  glProgramUniform1i(p, 3, active_count_);
+  glProgramUniform1i(p, 4, k_best);
+  glProgramUniform1f(p, 5, options.lambda);
+  glProgramUniform1f(p, 6, options.occlusion_tolerance);
+  glProgramUniform1f(p, 7, inv_scene_scale_);
+  glProgramUniform1i(p, 8, options.debug_photo);
+  glProgramUniform1i(p, 9, options.encoding == PhotoEncoding::kRadiance ? 1 : 0);
+  glProgramUniform1i(p, 10, options.mode == BlendMode::kNearestPhoto ? 1 : 0);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  program_.Use();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_.id());
+  glBindTextureUnit(0, depth.depth.id());
+  glBindTextureUnit(1, depth.normal.id());
+  glBindTextureUnit(2, photo_texture_);
+  glBindTextureUnit(3, depth_maps_);
+  glBindTextureUnit(4, response ? response->id() : 0);
+  glBindImageTexture(0, color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(1, aux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glDispatchCompute(static_cast<GLuint>((depth.width() + 7) / 8),
+                    static_cast<GLuint>((depth.height() + 7) / 8), 1);
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+}  // namespace hdribr::render

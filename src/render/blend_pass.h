@@ -1,0 +1,53 @@
+// The blend pass (Lechelek et al. 2019, sec. 4, eqs. 1-5): blends the photos that see each
+// pixel's surface point, from the new view's depth and the photos' depth maps.
+#pragma once
+
+#include <vector>
+
+#include "core/camera.h"
+#include "core/rigid3.h"
+#include "core/scene.h"
+#include "gl/objects.h"
+#include "gl/shader_library.h"
+#include "render/depth_pass.h"
+#include "render/photo_depth_maps.h"
+#include "render/photo_textures.h"
+#include "render/renderer.h"
+
+namespace hdribr::render {
+
+// Largest K of BlendOptions::k_best handled per pixel (MAX_K in shaders/blend.comp).
+inline constexpr int kMaxKBest = 32;
+
+class BlendPass {
+ public:
+  // Needs a current GL 4.5 context.
+  explicit BlendPass(const gl::ShaderLibrary& shaders);
+
+  // Uploads the per-photo geometry (poses, intrinsics, texture and depth-map scales) of every
+  // scene photo; `textures` and `depth_maps` hold layer i = scene.photos[i].
+  void SetPhotos(const Scene& scene, const PhotoTextures& textures,
+                 const PhotoDepthMaps& depth_maps);
+  // Photos that may contribute (indices into scene.photos).
+  void SetActive(const std::vector<int>& photo_indices);
+  int active_count() const { return active_count_; }
+
+  // Blends into color (RGBA32F: rgb value, a validity) and aux (RGBA32F: r count, g the debug
+  // photo's normalised weight). `camera` has the target's size. response: 256 x 1 RGB32F
+  // texture of g(Z), needed by PhotoEncoding::kRadiance.
+  void Process(const Camera& camera, const Rigid3d& cam_from_world, const DepthTarget& depth,
+               const BlendOptions& options, const gl::Texture* response, gl::Texture& color,
+               gl::Texture& aux) const;
+
+ private:
+  gl::Program program_;
+  gl::Buffer photos_;
+  gl::Buffer active_;
+  GLuint photo_texture_ = 0;
+  GLuint depth_maps_ = 0;
+  int photo_count_ = 0;
+  int active_count_ = 0;
+  float inv_scene_scale_ = 1.0f;
+};
+
+}  // namespace hdribr::render

@@ -1,0 +1,39 @@
+// BuildHdrPhotoSet: the GPU half of the HDR photo set (aligned per-series renders); the rest
+// is in hdr_photo_set.cc.
+#include "render/hdr_photo_set.h"
+
+#include <vector>
+
+namespace hdribr::render {
+
+HdrPhotoSet BuildHdrPhotoSet(const gl::ShaderLibrary& shaders, const Scene& scene,
+                             const HdrPhotoSetOptions& options) {
+  HdrPhotoSet plan = PlanHdrPhotoSet(scene, options);
+  // Aligned LDR renders: one per series and view, from that series' photos only; the blended
+  // display value rounded back to 8 bits, the render's validity as the mask.
+  RendererOptions ropt = options.renderer;
+  ropt.blend.encoding = PhotoEncoding::kDisplay;
+  ropt.photo_images.clear();
+  Renderer renderer(shaders, scene, ropt);
+  std::vector<ExposureStack> stacks(plan.views.size());
+  for (size_t i = 0; i < plan.views.size(); ++i) {
+    const View& v = plan.views[i].view;
+    stacks[i].times = plan.series_exposures;
+    for (const ExposureSeries& series : scene.series) {
+      renderer.SetActivePhotos(series.photo_indices);
+      RenderImages r =
+          renderer.RenderToImages(v.camera, v.cam_from_world, v.camera.width, v.camera.height);
+      cv::Mat bgr8;
+      r.color.convertTo(bgr8, CV_8UC3, 255.0);
+      stacks[i].images.push_back(bgr8);
+      stacks[i].masks.push_back(r.valid.clone());
+    }
+    if (options.progress) {
+      options.progress(static_cast<int>(i) + 1, static_cast<int>(plan.views.size()));
+    }
+  }
+  renderer.SetAllPhotosActive();
+  return WriteHdrPhotoSet(std::move(plan), stacks, options);
+}
+
+}  // namespace hdribr::render

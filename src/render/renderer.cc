@@ -1,0 +1,190 @@
+#include "render/renderer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "render/blend_pass.h"
+#include "render/photo_depth_maps.h"
+#include "render/photo_textures.h"
+#include "render/readback.h"
+
+namespace hdribr::render {
+
+RenderTarget RenderTarget::Create(int width, int height) {
+  RenderTarget t;
+  t.depth = DepthTarget::Create(width, height);
+  t.color = gl::Texture::Create2D(GL_RGBA32F, width, height);
+  t.aux = gl::Texture::Create2D(GL_RGBA32F, width, height);
+  return t;
+}
+
+struct Renderer::Impl {
+  const Scene& scene;
+  RendererOptions options;
+  BlendPass blend;  // first: its shader fails fast, before the photos are loaded
+  DepthPass depth_pass;
+  PhotoTextures textures;
+  PhotoDepthMaps depth_maps;
+  gl::Texture response;  // 256 x 1 RGB32F g(Z), empty without a response curve
+  std::vector<int> active;
+  RenderTimes times;
+  gl::TimestampQuery stamps[3] = {gl::TimestampQuery::Create(), gl::TimestampQuery::Create(),
+                                  gl::TimestampQuery::Create()};
+  std::optional<RenderTarget> scratch;  // RenderToImages' target
+
+  Impl(const gl::ShaderLibrary& shaders, const Scene& s, RendererOptions o)
+      : scene(s),
+        options(std::move(o)),
+        blend(shaders),
+        depth_pass(shaders, WithPoints(options.depth)),
+        textures(s, options.photo_images, options.max_photo_size),
+        depth_maps(s, PrepareDepthPass(depth_pass, s), options.photo_depth_scale) {
+    // The pixels were uploaded: do not keep a second copy of an HDR photo set in memory.
+    options.photo_images.clear();
+    options.photo_images.shrink_to_fit();
+    blend.SetPhotos(scene, textures, depth_maps);
+    SetAll();
+    if (options.response) {
+      if (!options.response->IsValid()) throw UsageError("the response curve is not valid");
+      std::vector<float> lut(256 * 3);
+      for (int z = 0; z < 256; ++z) {
+        for (int c = 0; c < 3; ++c) {  // BGR curve -> RGB texel
+          lut[static_cast<size_t>(z * 3 + c)] = static_cast<float>(
+              options.response->log_inverse[static_cast<size_t>(2 - c)][static_cast<size_t>(z)]);
+        }
+      }
+      response = gl::Texture::Create2D(GL_RGB32F, 256, 1);
+      glTextureParameteri(response.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(response.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      glTextureSubImage2D(response.id(), 0, 0, 0, 256, 1, GL_RGB, GL_FLOAT, lut.data());
+    }
+  }
+
+  static DepthPassOptions WithPoints(DepthPassOptions o) { return o; }
+  static DepthPass& PrepareDepthPass(DepthPass& pass, const Scene& s) {
+    pass.SetPoints(s.points);
+    return pass;
+  }
+
+  void SetAll() {
+    active.resize(scene.photos.size());
+    for (size_t i = 0; i < active.size(); ++i) active[i] = static_cast<int>(i);
+    blend.SetActive(active);
+  }
+
+  // BlendMode::kNearestPhoto: the active photo whose centre is nearest to the view's, with
+  // the view-direction difference as a tie-break term: |C - C_k| / scene_scale + (1 - d . d_k).
+  int NearestPhoto(const Rigid3d& cam_from_world) const {
+    const Rigid3d world_from_cam = cam_from_world.Inverse();
+    const Eigen::Vector3d c = world_from_cam.translation;
+    const Eigen::Vector3d d = world_from_cam.rotation * Eigen::Vector3d::UnitZ();
+    int best = -1;
+    double best_score = 0;
+    for (int i : active) {
+      const Photo& photo = scene.photos[static_cast<size_t>(i)];
+      const double score = (photo.Center() - c).norm() / std::max(scene.scene_scale, 1e-12) +
+                           (1.0 - d.dot(photo.ViewDirection()));
+      if (best < 0 || score < best_score) {
+        best = i;
+        best_score = score;
+      }
+    }
+    return best;
+  }
+};
+
+Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, RendererOptions options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  impl_ = std::make_unique<Impl>(shaders, scene, std::move(options));
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  spdlog::info(
+      "renderer: {} photos ({}x{} array, {} levels, {}), {} points; GPU memory {:.1f} MiB "
+      "(photos {:.1f}, depth maps {:.1f}); set up in {:.2f} s",
+      scene.photos.size(), impl_->textures.width(), impl_->textures.height(),
+      impl_->textures.levels(), impl_->textures.is_float() ? "RGBA16F" : "RGBA8",
+      scene.points.size(), gpu_bytes() / 1048576.0, impl_->textures.bytes() / 1048576.0,
+      (gpu_bytes() - impl_->textures.bytes()) / 1048576.0, s);
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::SetActivePhotos(const std::vector<int>& photo_indices) {
+  impl_->blend.SetActive(photo_indices);
+  impl_->active = photo_indices;
+}
+
+void Renderer::SetAllPhotosActive() { impl_->SetAll(); }
+
+void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target) {
+  Impl& m = *impl_;
+  const Camera cam = (camera.width == target.width() && camera.height == target.height())
+                         ? camera
+                         : camera.Scaled(target.width(), target.height());
+  const bool nearest = m.options.blend.mode == BlendMode::kNearestPhoto;
+  if (nearest) {
+    const int best = m.NearestPhoto(cam_from_world);
+    m.blend.SetActive(best >= 0 ? std::vector<int>{best} : std::vector<int>{});
+  }
+  m.stamps[0].Stamp();
+  m.depth_pass.Process(cam, cam_from_world, target.depth);
+  m.stamps[1].Stamp();
+  m.blend.Process(cam, cam_from_world, target.depth, m.options.blend,
+                  m.response ? &m.response : nullptr, target.color, target.aux);
+  m.stamps[2].Stamp();
+  if (nearest) m.blend.SetActive(m.active);
+  const GLuint64 t0 = m.stamps[0].ResultNs(), t1 = m.stamps[1].ResultNs(),
+                 t2 = m.stamps[2].ResultNs();
+  m.times.depth_ms = static_cast<double>(t1 - t0) * 1e-6;
+  m.times.blend_ms = static_cast<double>(t2 - t1) * 1e-6;
+}
+
+RenderImages Renderer::RenderToImages(const Camera& camera, const Rigid3d& cam_from_world,
+                                      int width, int height) {
+  Impl& m = *impl_;
+  if (!m.scratch || m.scratch->width() != width || m.scratch->height() != height) {
+    m.scratch = RenderTarget::Create(width, height);
+  }
+  Render(camera, cam_from_world, *m.scratch);
+  return Read(*m.scratch);
+}
+
+RenderImages Renderer::Read(const RenderTarget& target) {
+  RenderImages out;
+  const DepthImages d = ReadDepthTarget(target.depth);
+  out.depth = d.depth;
+  out.normal = d.normal;
+  cv::Mat rgba(target.height(), target.width(), CV_32FC4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(target.color.id(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(rgba.total() * 16), rgba.data);
+  cv::cvtColor(rgba, out.color, cv::COLOR_RGBA2BGR);
+  cv::Mat alpha;
+  cv::extractChannel(rgba, alpha, 3);
+  out.valid = alpha > 0.5f;
+  cv::Mat aux(target.height(), target.width(), CV_32FC4);
+  glGetTextureImage(target.aux.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(aux.total() * 16),
+                    aux.data);
+  cv::extractChannel(aux, out.count, 0);
+  cv::extractChannel(aux, out.weight, 1);
+  return out;
+}
+
+BlendOptions& Renderer::blend_options() { return impl_->options.blend; }
+DepthPass& Renderer::depth_pass() { return impl_->depth_pass; }
+const Scene& Renderer::scene() const { return impl_->scene; }
+const RenderTimes& Renderer::last_times() const { return impl_->times; }
+
+size_t Renderer::gpu_bytes() const {
+  const gl::Texture& d = impl_->depth_maps.depth();
+  return impl_->textures.bytes() + static_cast<size_t>(d.width()) *
+                                       static_cast<size_t>(d.height()) *
+                                       static_cast<size_t>(d.layers()) * 4;
+}
+
+}  // namespace hdribr::render

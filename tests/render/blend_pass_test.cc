@@ -1,0 +1,305 @@
+// The renderer (depth pass + blend pass, Lechelek et al. 2019 sec. 4) on a small ground-truth
+// synthetic capture: leave-one-out fidelity, debug maps, K best, active subsets, photo sizes,
+// float photos and radiance blending.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "gl/context.h"
+#include "hdr/response_curve.h"
+#include "io/image.h"
+#include "io/workspace.h"
+#include "render/renderer.h"
+#include "synth/capture.h"
+#include "test_util.h"
+
+namespace hdribr::render {
+namespace {
+
+class BlendPassTest : public ::testing::Test {
+ protected:
+  // One capture for the whole suite: 2 series x 6 views, 160 x 120.
+  static void SetUpTestSuite() {
+    dir_ = new std::filesystem::path(test::TempDir("blend_pass") / "capture");
+    synth::CaptureOptions opt;
+    opt.series = 2;
+    opt.views = 6;
+    opt.width = 160;
+    opt.height = 120;
+    opt.novel_views = 1;
+    opt.threads = 2;
+    synth::WriteCapture(opt, *dir_);
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  void SetUp() override {
+    scene_ = LoadWorkspace(*dir_ / "workspace");
+    ASSERT_EQ(scene_.photos.size(), 12u);
+    ASSERT_EQ(scene_.series.size(), 2u);
+  }
+
+  // Photos of the series of `photo`, except `photo` itself.
+  std::vector<int> SameSeriesExcept(int photo) const {
+    std::vector<int> out;
+    const int series = scene_.photos[static_cast<size_t>(photo)].series_id;
+    for (size_t i = 0; i < scene_.photos.size(); ++i) {
+      if (scene_.photos[i].series_id == series && static_cast<int>(i) != photo) {
+        out.push_back(static_cast<int>(i));
+      }
+    }
+    return out;
+  }
+
+  RenderImages RenderPhotoView(Renderer& r, int photo) {
+    const Photo& p = scene_.photos[static_cast<size_t>(photo)];
+    const Camera& cam = scene_.CameraOf(p);
+    return r.RenderToImages(cam, p.cam_from_world, cam.width, cam.height);
+  }
+
+  // PSNR (8-bit scale) of the render against photo `photo` over the valid pixels.
+  double Psnr(const RenderImages& im, int photo) const {
+    cv::Mat ref;
+    ReadImage(scene_.photos[static_cast<size_t>(photo)].image_path).convertTo(ref, CV_32FC3);
+    cv::Mat diff = im.color * 255.0 - ref;
+    diff = diff.mul(diff);
+    const double mse = cv::mean(diff, im.valid)[0] / 3 + cv::mean(diff, im.valid)[1] / 3 +
+                       cv::mean(diff, im.valid)[2] / 3;
+    return 10.0 * std::log10(255.0 * 255.0 / std::max(mse, 1e-12));
+  }
+
+  static double Coverage(const RenderImages& im) {
+    return static_cast<double>(cv::countNonZero(im.valid)) / static_cast<double>(im.valid.total());
+  }
+
+  // Finite everywhere; invalid pixels exactly 0; count and weight consistent with validity.
+  static void ExpectSane(const RenderImages& im, int active) {
+    for (int y = 0; y < im.color.rows; ++y) {
+      for (int x = 0; x < im.color.cols; ++x) {
+        const cv::Vec3f c = im.color.at<cv::Vec3f>(y, x);
+        const float n = im.count.at<float>(y, x), w = im.weight.at<float>(y, x);
+        ASSERT_TRUE(std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]));
+        ASSERT_TRUE(std::isfinite(n) && std::isfinite(w));
+        ASSERT_GE(w, 0.0f);
+        ASSERT_LE(w, 1.0f + 1e-5f);
+        ASSERT_GE(n, 0.0f);
+        ASSERT_LE(n, static_cast<float>(active));
+        if (im.valid.at<uint8_t>(y, x)) {
+          ASSERT_GE(n, 1.0f);
+          ASSERT_GT(im.depth.at<float>(y, x), 0.0f);
+        } else {
+          ASSERT_EQ(c, cv::Vec3f(0, 0, 0));
+          ASSERT_EQ(n, 0.0f);
+        }
+      }
+    }
+  }
+
+  static std::filesystem::path* dir_;
+  Scene scene_;
+};
+
+std::filesystem::path* BlendPassTest::dir_ = nullptr;
+
+TEST_F(BlendPassTest, LeaveOneOutResemblesThePhoto) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  Renderer r(shaders, scene_);
+  EXPECT_GT(r.gpu_bytes(), 12u * 160 * 120 * 4);
+  for (int photo : {1, 8}) {
+    r.SetActivePhotos(SameSeriesExcept(photo));
+    const RenderImages loo = RenderPhotoView(r, photo);
+    ExpectSane(loo, 5);
+    const double psnr = Psnr(loo, photo), cov = Coverage(loo);
+    std::printf("photo %d: leave-one-out PSNR %.2f dB, coverage %.3f, mean count %.2f\n", photo,
+                psnr, cov, cv::mean(loo.count, loo.valid)[0]);
+    EXPECT_GT(psnr, 24.0);
+    EXPECT_GT(cov, 0.8);
+    // The photo itself among the inputs: closer still.
+    std::vector<int> with = SameSeriesExcept(photo);
+    with.push_back(photo);
+    r.SetActivePhotos(with);
+    const double psnr_self = Psnr(RenderPhotoView(r, photo), photo);
+    std::printf("photo %d: with itself PSNR %.2f dB\n", photo, psnr_self);
+    EXPECT_GT(psnr_self, psnr);
+  }
+}
+
+TEST_F(BlendPassTest, DebugMapsAndViewLookingAway) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  RendererOptions ro;
+  ro.blend.debug_photo = 2;
+  Renderer r(shaders, scene_, ro);
+  r.SetActivePhotos(SameSeriesExcept(0));  // photos 1..5
+  const RenderImages im = RenderPhotoView(r, 0);
+  ExpectSane(im, 5);
+  EXPECT_GT(cv::mean(im.count, im.valid)[0], 1.5);      // several photos per pixel
+  EXPECT_GT(cv::countNonZero(im.weight > 0.01f), 100);  // photo 2 contributes somewhere
+  cv::Mat n2;
+  cv::multiply(im.normal, im.normal, n2);
+  const cv::Scalar nn = cv::mean(n2, im.valid);
+  EXPECT_NEAR(nn[0] + nn[1] + nn[2], 1.0, 0.05);  // unit normals
+  // Looking away from the scene (turned around at the first photo's centre).
+  const Photo& p = scene_.photos[0];
+  const Eigen::Vector3d c = p.Center();
+  const Rigid3d away = LookAt(c, c - 5.0 * p.ViewDirection(), {0, -1, 0});
+  const RenderImages none = r.RenderToImages(scene_.CameraOf(p), away, 96, 64);
+  ExpectSane(none, 5);
+  EXPECT_EQ(cv::countNonZero(none.valid), 0);
+  // No active photo at all: all invalid, no NaN.
+  r.SetActivePhotos({});
+  const RenderImages empty = RenderPhotoView(r, 0);
+  ExpectSane(empty, 0);
+  EXPECT_EQ(cv::countNonZero(empty.valid), 0);
+}
+
+TEST_F(BlendPassTest, KBestAndSubsetSwitching) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  Renderer r(shaders, scene_);
+  const std::vector<int> others = SameSeriesExcept(3);
+  r.SetActivePhotos(others);
+  const RenderImages all = RenderPhotoView(r, 3);
+  r.blend_options().k_best = 1;
+  const RenderImages one = RenderPhotoView(r, 3);
+  r.blend_options().k_best = 2;
+  const RenderImages two = RenderPhotoView(r, 3);
+  r.blend_options().k_best = 5;  // >= active photos: the same as all
+  const RenderImages five = RenderPhotoView(r, 3);
+  ExpectSane(one, 1);
+  ExpectSane(two, 2);
+  double max_count_one = 0;
+  cv::minMaxLoc(one.count, nullptr, &max_count_one);
+  EXPECT_EQ(max_count_one, 1.0);
+  EXPECT_EQ(cv::countNonZero(one.valid != all.valid), 0);  // K only drops weaker photos
+  EXPECT_GT(cv::norm(one.color, all.color, cv::NORM_L1), 1.0);
+  EXPECT_EQ(cv::norm(five.color, all.color, cv::NORM_INF), 0.0);
+  const double p_all = Psnr(all, 3), p_one = Psnr(one, 3), p_two = Psnr(two, 3);
+  std::printf("K best: all %.2f dB, K=2 %.2f dB, K=1 %.2f dB\n", p_all, p_two, p_one);
+  EXPECT_GT(p_one, 20.0);
+  // Subset of one photo: its normalised weight is 1 wherever valid.
+  r.blend_options().k_best = 0;
+  r.blend_options().debug_photo = others[0];
+  r.SetActivePhotos({others[0]});
+  const RenderImages single = RenderPhotoView(r, 3);
+  ExpectSane(single, 1);
+  EXPECT_GT(cv::countNonZero(single.valid), 1000);
+  cv::Mat off = (single.weight < 0.999f) & (single.valid > 0);
+  EXPECT_EQ(cv::countNonZero(off), 0);
+  // Back to the first subset: the identical image.
+  r.SetActivePhotos(others);
+  r.blend_options().debug_photo = -1;
+  EXPECT_EQ(cv::norm(RenderPhotoView(r, 3).color, all.color, cv::NORM_INF), 0.0);
+  // Nearest-photo mode: exactly one photo per valid pixel.
+  r.blend_options().mode = BlendMode::kNearestPhoto;
+  const RenderImages nearest = RenderPhotoView(r, 3);
+  ExpectSane(nearest, 1);
+  std::printf("nearest photo: %.2f dB, coverage %.3f\n", Psnr(nearest, 3), Coverage(nearest));
+  EXPECT_GT(Coverage(nearest), 0.5);
+}
+
+TEST_F(BlendPassTest, PhotoSizesFloatPhotosAndMaxPhotoSize) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const std::vector<int> others = SameSeriesExcept(4);
+  Renderer base(shaders, scene_);
+  base.SetActivePhotos(others);
+  const RenderImages ref = RenderPhotoView(base, 4);
+  const size_t base_bytes = base.gpu_bytes();
+
+  // Different sizes: every other photo at half size (the array keeps the largest).
+  RendererOptions mixed;
+  for (size_t i = 0; i < scene_.photos.size(); ++i) {
+    cv::Mat img = ReadImage(scene_.photos[i].image_path);
+    if (i % 2 == 1) cv::resize(img, img, cv::Size(80, 60), 0, 0, cv::INTER_AREA);
+    mixed.photo_images.push_back(img);
+  }
+  Renderer r_mixed(shaders, scene_, mixed);
+  r_mixed.SetActivePhotos(others);
+  const RenderImages im_mixed = RenderPhotoView(r_mixed, 4);
+  ExpectSane(im_mixed, 5);
+  const double p_ref = Psnr(ref, 4), p_mixed = Psnr(im_mixed, 4);
+  std::printf("sizes: full %.2f dB, half-size odd photos %.2f dB\n", p_ref, p_mixed);
+  EXPECT_GT(p_mixed, p_ref - 3.0);
+  EXPECT_EQ(cv::countNonZero(im_mixed.valid != ref.valid), 0);
+
+  // Float photos (an HDR photo set path): RGBA16F, same values as the 8-bit photos / 255.
+  RendererOptions fl;
+  for (size_t i = 0; i < scene_.photos.size(); ++i) {
+    cv::Mat f;
+    ReadImage(scene_.photos[i].image_path).convertTo(f, CV_32FC3, 1.0 / 255.0);
+    fl.photo_images.push_back(f);
+  }
+  Renderer r_float(shaders, scene_, fl);
+  r_float.SetActivePhotos(others);
+  EXPECT_GT(r_float.gpu_bytes(), base_bytes);  // RGBA16F: twice the photo bytes
+  const RenderImages im_float = RenderPhotoView(r_float, 4);
+  EXPECT_LT(cv::norm(im_float.color, ref.color, cv::NORM_INF), 2.0 / 255.0);
+
+  // --max-photo-size: smaller textures, a blurrier but still close render.
+  RendererOptions small;
+  small.max_photo_size = 64;
+  Renderer r_small(shaders, scene_, small);
+  r_small.SetActivePhotos(others);
+  EXPECT_LT(r_small.gpu_bytes(), base_bytes);
+  const RenderImages im_small = RenderPhotoView(r_small, 4);
+  ExpectSane(im_small, 5);
+  const double p_small = Psnr(im_small, 4);
+  std::printf("max-photo-size 64: %.2f dB, %zu vs %zu bytes\n", p_small, r_small.gpu_bytes(),
+              base_bytes);
+  EXPECT_LT(p_small, p_ref);
+  EXPECT_GT(p_small, 18.0);
+}
+
+TEST_F(BlendPassTest, RadianceEncodingMatchesAcrossSeries) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  RendererOptions ro;
+  ro.blend.encoding = PhotoEncoding::kRadiance;
+  ro.response = ReadResponseCurve(*dir_ / "calib" / "response.json");
+  Renderer r(shaders, scene_, ro);
+  // The same viewpoint from each series alone, in radiance: exposure divided out, so the two
+  // agree where both are well exposed (mid-range values).
+  std::vector<int> s0, s1;
+  for (size_t i = 0; i < scene_.photos.size(); ++i) {
+    if (i == 0 || i == 6) continue;  // photos 0 and 6 share view 0
+    (scene_.photos[i].series_id == 0 ? s0 : s1).push_back(static_cast<int>(i));
+  }
+  r.SetActivePhotos(s0);
+  const RenderImages a = RenderPhotoView(r, 0);
+  r.SetActivePhotos(s1);
+  const RenderImages b = RenderPhotoView(r, 0);
+  ExpectSane(a, 5);
+  ExpectSane(b, 5);
+  const cv::Mat dark = ReadImage(scene_.photos[0].image_path);
+  const cv::Mat bright = ReadImage(scene_.photos[6].image_path);
+  double log_ratio_sum = 0;
+  long n = 0;
+  for (int y = 0; y < a.color.rows; ++y) {
+    for (int x = 0; x < a.color.cols; ++x) {
+      if (!a.valid.at<uint8_t>(y, x) || !b.valid.at<uint8_t>(y, x)) continue;
+      const int zd = dark.at<cv::Vec3b>(y, x)[1], zb = bright.at<cv::Vec3b>(y, x)[1];
+      if (zd < 40 || zb > 215) continue;
+      log_ratio_sum +=
+          std::abs(std::log(a.color.at<cv::Vec3f>(y, x)[1] / b.color.at<cv::Vec3f>(y, x)[1]));
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 500);
+  const double mean_abs_log = log_ratio_sum / static_cast<double>(n);
+  std::printf("radiance series agreement: mean |ln ratio| %.4f over %ld pixels\n", mean_abs_log, n);
+  EXPECT_LT(mean_abs_log, 0.15);
+  // Without a response curve, radiance blending is refused.
+  RendererOptions bad;
+  bad.blend.encoding = PhotoEncoding::kRadiance;
+  Renderer r_bad(shaders, scene_, bad);
+  EXPECT_THROW(RenderPhotoView(r_bad, 0), UsageError);
+}
+
+}  // namespace
+}  // namespace hdribr::render

@@ -1,0 +1,142 @@
+// `hdribr render`: outputs on a small synthetic capture (PNG, EXR, debug maps, camera path,
+// nearest mode), and clear errors on bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <opencv2/imgproc.hpp>
+
+#include "io/camera_spec.h"
+#include "io/exr.h"
+#include "io/image.h"
+#include "io/workspace.h"
+#include "synth/capture.h"
+#include "test_util.h"
+
+namespace hdribr {
+namespace {
+
+class RenderCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::filesystem::path(test::TempDir("render_cli") / "capture");
+    synth::CaptureOptions opt;
+    opt.series = 1;
+    opt.views = 4;
+    opt.width = 128;
+    opt.height = 96;
+    opt.novel_views = 1;
+    opt.threads = 2;
+    synth::WriteCapture(opt, *dir_);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static std::string Exe() { return HDRIBR_EXE; }
+  static std::string Ws() { return (*dir_ / "workspace").string(); }
+  static std::filesystem::path* dir_;
+};
+std::filesystem::path* RenderCliTest::dir_ = nullptr;
+
+TEST_F(RenderCliTest, PngAndExrOfAPhotoView) {
+  const auto out = test::TempDir("render_cli_png");
+  auto r = test::RunCommand(Exe() + " render " + Ws() +
+                            " --camera s0_v01.jpg --exclude s0_v01.jpg --out " +
+                            (out / "a.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("valid"), std::string::npos) << r.output;
+  const cv::Mat png = ReadImage(out / "a.png");
+  ASSERT_EQ(png.size(), cv::Size(128, 96));
+  const cv::Mat photo = ReadImage(*dir_ / "workspace" / "images" / "s0_v01.jpg");
+  // Left out of its own view, the photo is still reproduced: mean absolute error over the
+  // non-black pixels (invalid pixels are written as 0).
+  cv::Mat gray;
+  cv::cvtColor(png, gray, cv::COLOR_BGR2GRAY);
+  const cv::Mat mask = gray > 0;
+  ASSERT_GT(cv::countNonZero(mask), 128 * 96 / 2);
+  cv::Mat diff;
+  cv::absdiff(png, photo, diff);
+  const cv::Scalar mad = cv::mean(diff, mask);
+  EXPECT_LT((mad[0] + mad[1] + mad[2]) / 3, 12.0);
+
+  r = test::RunCommand(Exe() + " render " + Ws() + " --camera s0_v01.jpg --size 64x48 --out " +
+                       (out / "a.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const cv::Mat exr = ReadExr(out / "a.exr");
+  ASSERT_EQ(exr.size(), cv::Size(64, 48));
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(exr.reshape(1), &lo, &hi);
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1.0 + 1e-6);
+  EXPECT_GT(hi, 0.2);
+}
+
+TEST_F(RenderCliTest, DebugMapsPathAndNearest) {
+  const auto out = test::TempDir("render_cli_debug");
+  for (const std::string d : {"count", "weight:s0_v02.jpg", "depth", "normal"}) {
+    const auto r = test::RunCommand(Exe() + " render " + Ws() + " --camera s0_v00.jpg --debug " +
+                                    d + " --k-best 2 --out " + (out / "d.png").string());
+    ASSERT_EQ(r.exit_code, 0) << d << ": " << r.output;
+    EXPECT_EQ(ReadImage(out / "d.png").cols, 128) << d;
+  }
+  const auto r = test::RunCommand(Exe() + " render " + Ws() +
+                                  " --camera s0_v00.jpg --mode nearest --exclude s0_v00.jpg "
+                                  "--max-photo-size 64 --out " +
+                                  (out / "n.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("mean photos/pixel 1.00"), std::string::npos) << r.output;
+
+  // A camera path between two photo views: 0.5 s at 4 fps = 3 frames.
+  const Scene scene = LoadWorkspace(*dir_ / "workspace");
+  CameraPath path;
+  path.fps = 4;
+  path.times_s = {0.0, 0.5};
+  for (int i : {0, 1}) {
+    const Photo& p = scene.photos[static_cast<size_t>(i)];
+    path.keyframes.push_back(View{p.name, scene.CameraOf(p), p.cam_from_world});
+  }
+  WriteCameraPath(out / "path.json", path);
+  const auto rp =
+      test::RunCommand(Exe() + " render " + Ws() + " --path " + (out / "path.json").string() +
+                       " --size 64x48 --out-dir " + (out / "frames").string());
+  ASSERT_EQ(rp.exit_code, 0) << rp.output;
+  for (const char* f : {"frame_0000.png", "frame_0001.png", "frame_0002.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / "frames" / f)) << f;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "frames" / "frame_0003.png"));
+}
+
+TEST_F(RenderCliTest, BadInputAndLookingAway) {
+  const auto out = test::TempDir("render_cli_bad");
+  const std::string base = Exe() + " render " + Ws();
+  auto r = test::RunCommand(base + " --camera nope.jpg --out " + (out / "x.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("nope.jpg"), std::string::npos) << r.output;
+  r = test::RunCommand(base + " --camera '1 2 0 0 0 0 0' --out " + (out / "x.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("unit quaternion"), std::string::npos) << r.output;
+  r = test::RunCommand(base + " --camera s0_v00.jpg --out " + (out / "x.jpg").string());
+  EXPECT_NE(r.exit_code, 0);
+  r = test::RunCommand(base + " --camera s0_v00.jpg --exclude zz --out " +
+                       (out / "x.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("zz"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "x.png"));
+
+  // A photo missing on disk: an error naming the file, no output.
+  const auto ws = out / "ws";
+  std::filesystem::copy(*dir_ / "workspace", ws, std::filesystem::copy_options::recursive);
+  std::filesystem::remove(ws / "images" / "s0_v03.jpg");
+  r = test::RunCommand(Exe() + " render " + ws.string() + " --camera s0_v00.jpg --out " +
+                       (out / "m.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("s0_v03.jpg"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.png"));
+
+  // Every point behind the camera: all invalid, a warning, exit 0.
+  r = test::RunCommand(base + " --camera '1 0 0 0 0 0 -1000' --out " + (out / "away.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("all invalid"), std::string::npos) << r.output;
+  cv::Mat away = ReadImage(out / "away.png");
+  EXPECT_EQ(cv::countNonZero(away.reshape(1)), 0);
+}
+
+}  // namespace
+}  // namespace hdribr
