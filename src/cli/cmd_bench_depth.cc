@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "gl/context.h"
@@ -29,16 +30,6 @@ struct BenchDepthOptions {
   int frames = 3;
   std::string json;
 };
-
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
 
 // A generated scene: n points uniformly on a ground plane (6 x 6), a back wall and three
 // spheres, with normals and radii 1.25 x the mean spacing; seen by a 60-degree camera.
@@ -85,15 +76,12 @@ PointCloud MakeCloud(size_t n) {
 int Run(const BenchDepthOptions& opt) {
   if (opt.frames < 1) throw UsageError("--frames must be >= 1");
   std::vector<std::pair<int, int>> sizes;
-  for (const auto& s : Split(opt.sizes)) {
-    int w = 0, h = 0;
-    if (std::sscanf(s.c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0) {
-      throw UsageError("--sizes: bad size '" + s + "' (WxH)");
-    }
-    sizes.emplace_back(w, h);
+  for (const auto& s : SplitList(opt.sizes)) {
+    const cv::Size size = ParseSize(s, "--sizes");
+    sizes.emplace_back(size.width, size.height);
   }
   std::vector<size_t> counts;
-  for (const auto& s : Split(opt.points)) {
+  for (const auto& s : SplitList(opt.points)) {
     try {
       const long long v = std::stoll(s);
       if (v <= 0) throw std::invalid_argument("");
@@ -103,7 +91,7 @@ int Run(const BenchDepthOptions& opt) {
     }
   }
   std::vector<render::DepthMode> modes;
-  for (const auto& s : Split(opt.modes)) modes.push_back(render::ParseDepthMode(s));
+  for (const auto& s : SplitList(opt.modes)) modes.push_back(render::ParseDepthMode(s));
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;

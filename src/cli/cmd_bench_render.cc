@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "gl/context.h"
@@ -33,29 +34,9 @@ struct BenchRenderOptions {
   std::string json;
 };
 
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
-std::pair<int, int> ParseWxH(const std::string& s, const char* what) {
-  int w = 0, h = 0;
-  char extra = 0;
-  if (std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &extra) != 2 || w <= 0 || h <= 0 || w > 16384 ||
-      h > 16384) {
-    throw UsageError(std::string(what) + ": bad size '" + s + "' (WxH)");
-  }
-  return {w, h};
-}
-
 std::vector<int> ParseInts(const std::string& s, const char* what, int min) {
   std::vector<int> out;
-  for (const auto& item : Split(s)) {
+  for (const auto& item : SplitList(s)) {
     try {
       size_t used = 0;
       const int v = std::stoi(item, &used);
@@ -130,10 +111,14 @@ int Run(const BenchRenderOptions& opt) {
   if (opt.frames < 1) throw UsageError("--frames must be >= 1");
   if (opt.points <= 0) throw UsageError("--points must be positive");
   std::vector<std::pair<int, int>> sizes;
-  for (const auto& s : Split(opt.sizes)) sizes.push_back(ParseWxH(s, "--sizes"));
+  for (const auto& s : SplitList(opt.sizes)) {
+    const cv::Size size = ParseSize(s, "--sizes");
+    sizes.emplace_back(size.width, size.height);
+  }
   const std::vector<int> photo_counts = ParseInts(opt.photos, "--photos", 1);
   const std::vector<int> ks = ParseInts(opt.k_best, "--k-best", 0);
-  const auto [pw, ph] = ParseWxH(opt.photo_size, "--photo-size");
+  const cv::Size photo_size = ParseSize(opt.photo_size, "--photo-size");
+  const int pw = photo_size.width, ph = photo_size.height;
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "gl/context.h"
@@ -32,16 +33,6 @@ struct DepthOptions {
   std::string size;
   std::string out;
 };
-
-cv::Size ParseSize(const std::string& s) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w <= 0 || h <= 0 || w > 16384 || h > 16384) {
-    throw UsageError("--size must be WxH with positive integers, got '" + s + "'");
-  }
-  return {w, h};
-}
 
 // Depth as a turbo colour map between the 1st and 99th percentiles of the valid depths
 // (near = red end), invalid pixels black.

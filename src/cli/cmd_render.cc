@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "gl/context.h"
@@ -54,16 +55,6 @@ struct RenderCliOptions {
   double gamma = 2.2;
   double log_average = 0;  // 0 = computed per image on the GPU
 };
-
-cv::Size ParseSize(const std::string& s) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w <= 0 || h <= 0 || w > 16384 || h > 16384) {
-    throw UsageError("--size must be WxH with positive integers, got '" + s + "'");
-  }
-  return {w, h};
-}
 
 // The blended colour as an 8-bit BGRA PNG image: value x 255 rounded (clamped), alpha 255 where
 // valid, everything 0 where invalid. Helper for display encodings of 8-bit photos.

@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -25,18 +26,10 @@ struct SynthCliOptions {
   synth::CaptureOptions capture;
 };
 
-void ParseSize(const std::string& size, synth::CaptureOptions& capture) {
-  int w = 0, h = 0;
-  char tail = 0;
-  if (std::sscanf(size.c_str(), "%dx%d%c", &w, &h, &tail) != 2) {
-    throw UsageError("synth: --size must look like 640x480, got '" + size + "'");
-  }
-  capture.width = w;
-  capture.height = h;
-}
-
 int Run(SynthCliOptions opt) {
-  ParseSize(opt.size, opt.capture);
+  const cv::Size size = ParseSize(opt.size);
+  opt.capture.width = size.width;
+  opt.capture.height = size.height;
   if (!opt.preview.empty()) {
     const synth::CapturePlan plan = synth::PlanCapture(opt.capture);
     WriteImage(opt.preview, synth::MakePreview(plan));
@@ -63,7 +56,9 @@ struct BenchSynthOptions {
 
 // Writes whole captures into a temporary folder and reports the time of each (render and total).
 int RunBench(BenchSynthOptions opt) {
-  ParseSize(opt.size, opt.capture);
+  const cv::Size size = ParseSize(opt.size);
+  opt.capture.width = size.width;
+  opt.capture.height = size.height;
   if (opt.repeat < 1) throw UsageError("bench synth: --repeat must be at least 1");
   namespace fs = std::filesystem;
   const fs::path tmp =
