@@ -39,15 +39,21 @@ layout(location = 7) uniform float u_inv_scene_scale;
 layout(location = 8) uniform int u_debug_photo;
 layout(location = 9) uniform int u_encoding;  // 0 display, 1 radiance
 layout(location = 10) uniform int u_nearest;  // 1: projective texturing, weight 1
+layout(location = 11) uniform int u_weights;  // 0 paper eq. 5, 1 Unstructured Lumigraph
 
 #ifndef MAX_K
 #define MAX_K 32
 #endif
 
+const float kHalfPi = 1.5707963;
+
 // Geometric weight of photo i for the point P (0 when photo i does not see it); uvl receives
-// the texture coordinate and the level of detail of P in the photo.
-float PhotoWeight(int i, vec3 P, vec3 N, vec3 V, float dist_c, float z_new, out vec3 uvl) {
+// the texture coordinate and the level of detail of P in the photo, penalty the Unstructured
+// Lumigraph penalty angle(V, V_k) (radians) + delta_k.
+float PhotoWeight(int i, vec3 P, vec3 N, vec3 V, float dist_c, float z_new, out vec3 uvl,
+                  out float penalty) {
   uvl = vec3(0.0);
+  penalty = 0.0;
   vec3 pk = (photos[i].cam_from_world * vec4(P, 1.0)).xyz;
   if (pk.z <= 0.0) return 0.0;
   vec4 intr = photos[i].intrinsics;
@@ -77,6 +83,7 @@ float PhotoWeight(int i, vec3 P, vec3 N, vec3 V, float dist_c, float z_new, out 
     float cos_k = max(0.0, dot(V, vk));                      // eq. 2
     float delta = abs(dist_c - dist_k) * u_inv_scene_scale;  // eq. 4, scene-scale units
     w = cos_k / (delta + 1.0);                               // eq. 5
+    penalty = acos(min(cos_k, 1.0)) + delta;
   }
   // Level of detail: a target pixel covers z_new / f_new world units at P, which photo i sees
   // over that times f_i / z_i camera pixels, times its texels per camera pixel.
@@ -124,12 +131,23 @@ void main() {
     float geo_sum = 0.0;
     float debug_w = 0.0;
     float count = 0.0;
-    if (u_k_best <= 0) {
-      for (int a = 0; a < u_active_count; ++a) {
-        int i = active_photos[a];
-        vec3 uvl;
-        float w = PhotoWeight(i, P, N, V, dist_c, z, uvl);
-        if (w <= 0.0) continue;
+    // Candidates: every photo (paper, u_k_best = 0), or the K best by weight, or the K + 1
+    // smallest penalties (Unstructured Lumigraph), kept sorted by insertion.
+    bool ulr = u_weights == 1 && u_nearest == 0;
+    int k = u_k_best <= 0 ? MAX_K : min(u_k_best, MAX_K);
+    int keep = ulr ? k + 1 : k;
+    float best_key[MAX_K + 1];
+    float best_w[MAX_K + 1];
+    int best_i[MAX_K + 1];
+    vec3 best_uvl[MAX_K + 1];
+    int n_best = 0;
+    for (int a = 0; a < u_active_count; ++a) {
+      int i = active_photos[a];
+      vec3 uvl;
+      float penalty;
+      float w = PhotoWeight(i, P, N, V, dist_c, z, uvl, penalty);
+      if (w <= 0.0) continue;
+      if (u_k_best <= 0 && !ulr) {  // all photos: accumulate directly
         vec3 hat;
         vec3 c = PhotoValue(i, uvl, hat);
         sum += w * hat * c;
@@ -137,42 +155,43 @@ void main() {
         geo_sum += w;
         count += 1.0;
         if (i == u_debug_photo) debug_w = w;
+        continue;
       }
-    } else {
-      // The K largest geometric weights, sorted descending (insertion), then only those
-      // photos are sampled.
-      float best_w[MAX_K];
-      int best_i[MAX_K];
-      vec3 best_uvl[MAX_K];
-      int n_best = 0;
-      int k = min(u_k_best, MAX_K);
-      for (int a = 0; a < u_active_count; ++a) {
-        int i = active_photos[a];
-        vec3 uvl;
-        float w = PhotoWeight(i, P, N, V, dist_c, z, uvl);
-        if (w <= 0.0) continue;
-        if (n_best == k && w <= best_w[k - 1]) continue;
-        int j = min(n_best, k - 1);
-        while (j > 0 && best_w[j - 1] < w) {
-          best_w[j] = best_w[j - 1];
-          best_i[j] = best_i[j - 1];
-          best_uvl[j] = best_uvl[j - 1];
-          --j;
-        }
-        best_w[j] = w;
-        best_i[j] = i;
-        best_uvl[j] = uvl;
-        n_best = min(n_best + 1, k);
+      float key = ulr ? -penalty : w;  // larger is better
+      if (n_best == keep && key <= best_key[keep - 1]) continue;
+      int j = min(n_best, keep - 1);
+      while (j > 0 && best_key[j - 1] < key) {
+        best_key[j] = best_key[j - 1];
+        best_w[j] = best_w[j - 1];
+        best_i[j] = best_i[j - 1];
+        best_uvl[j] = best_uvl[j - 1];
+        --j;
       }
+      best_key[j] = key;
+      best_w[j] = w;
+      best_i[j] = i;
+      best_uvl[j] = uvl;
+      n_best = min(n_best + 1, keep);
+    }
+    if (ulr && n_best > 0) {
+      // Threshold: the (K+1)-th penalty, or the paper's cosine horizon when fewer photos see P.
+      float t = n_best > k ? -best_key[k] : kHalfPi;
+      n_best = min(n_best, k);
       for (int j = 0; j < n_best; ++j) {
-        vec3 hat;
-        vec3 c = PhotoValue(best_i[j], best_uvl[j], hat);
-        sum += best_w[j] * hat * c;
-        wsum += best_w[j] * hat;
-        geo_sum += best_w[j];
-        count += 1.0;
-        if (best_i[j] == u_debug_photo) debug_w = best_w[j];
+        float p = -best_key[j];
+        best_w[j] = max(0.0, 1.0 - p / t) / max(p, 1e-4);
       }
+      if (best_w[0] <= 0.0) best_w[0] = 1.0;  // every penalty beyond the horizon: the best
+    }
+    for (int j = 0; j < n_best; ++j) {
+      if (best_w[j] <= 0.0) continue;
+      vec3 hat;
+      vec3 c = PhotoValue(best_i[j], best_uvl[j], hat);
+      sum += best_w[j] * hat * c;
+      wsum += best_w[j] * hat;
+      geo_sum += best_w[j];
+      count += 1.0;
+      if (best_i[j] == u_debug_photo) debug_w = best_w[j];
     }
     if (count > 0.0 && all(greaterThan(wsum, vec3(0.0)))) {
       color = vec4(sum / wsum, 1.0);

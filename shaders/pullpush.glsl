@@ -48,3 +48,25 @@ Texel Average(Texel t[4], float wt[4]) {
   r.b = vec4(ln > 1e-6 ? n / ln : t[nearest].b.xyz, sw);
   return r;
 }
+
+// Push (Marroquim et al. 2007) into fine texel f of level l (fine_scale = 2^l level-0 pixels
+// per texel): the bilinear, depth-grouped average of the 4 nearest level l+1 texels whose
+// splat ellipse covers the texel centre. Coarse texel i is PushBase(f) + (i & 1, i >> 1),
+// clamped to the coarse level by the caller.
+ivec2 PushBase(ivec2 f) { return ivec2(floor((vec2(f) + 0.5) * 0.5 - 0.5)); }
+
+Texel PushAverage(Texel t[4], ivec2 f, float fine_scale) {
+  vec2 centre = (vec2(f) + 0.5) * fine_scale;  // level-0 pixels
+  vec2 g = (vec2(f) + 0.5) * 0.5 - 0.5;
+  vec2 fr = g - floor(g);
+  float wt[4];
+  for (int i = 0; i < 4; ++i) {
+    ivec2 o = ivec2(i & 1, i >> 1);
+    float w = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y) + 1e-4;
+    bool covers = Valid(t[i]) && InsideEllipse(centre - PixelFromCam(t[i].a.xyz),
+                                               t[i].a.w + 0.5 * fine_scale,
+                                               EllipseAxes(t[i].b.xyz, t[i].a.xyz));
+    wt[i] = covers ? w : 0.0;
+  }
+  return Average(t, wt);
+}

@@ -25,26 +25,15 @@ void main() {
 #if !OCCLUDE
   if (Valid(self)) return;
 #endif
-  // Texel centre in level-0 pixels, and the 4 nearest coarse texels with bilinear weights.
-  vec2 centre = (vec2(f) + 0.5) * u_fine_scale;
-  vec2 g = (vec2(f) + 0.5) * 0.5 - 0.5;
-  ivec2 base = ivec2(floor(g));
-  vec2 fr = g - vec2(base);
+  ivec2 base = PushBase(f);
   ivec2 coarse_size = imageSize(u_coarse_a);
   Texel t[4];
-  float wt[4];
   for (int i = 0; i < 4; ++i) {
-    ivec2 o = ivec2(i & 1, i >> 1);
-    ivec2 c = clamp(base + o, ivec2(0), coarse_size - 1);
+    ivec2 c = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), coarse_size - 1);
     t[i].a = imageLoad(u_coarse_a, c);
     t[i].b = imageLoad(u_coarse_b, c);
-    float w = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y) + 1e-4;
-    bool covers = Valid(t[i]) && InsideEllipse(centre - PixelFromCam(t[i].a.xyz),
-                                               t[i].a.w + 0.5 * u_fine_scale,
-                                               EllipseAxes(t[i].b.xyz, t[i].a.xyz));
-    wt[i] = covers ? w : 0.0;
   }
-  Texel r = Average(t, wt);
+  Texel r = PushAverage(t, f, u_fine_scale);
   if (!Valid(r)) return;
   if (Valid(self)) {
 #if OCCLUDE

@@ -4,7 +4,10 @@
 //  MODE 1 (marroquim): pull-push of all points; depth on the tangent plane of the texel.
 //  MODE 2 (lechelek):  steps 4-5 of Lechelek et al. 2019 sec. 4: only pixels covered by
 //                      step-1 splats; foreground pull-push where valid, background filling
-//                      the foreground's holes, the step-1 splat depth as a last resort.
+//                      the foreground's holes, the step-1 splat depth (and a view-facing
+//                      normal: step 1 writes no normal in this mode) as a last resort. The
+//                      last push of the background pyramid (level 1 to 0) is done here, only
+//                      for the pixels that need it (u_push_back), not over the whole image.
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "pullpush.glsl"
 
@@ -13,15 +16,20 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #endif
 
 layout(binding = 0) uniform sampler2D u_splat_depth;
-layout(binding = 1) uniform sampler2D u_splat_normal;  // w = coverage
+layout(binding = 1) uniform sampler2D u_splat_normal;  // w = coverage (plain only)
 layout(binding = 2) uniform sampler2D u_front_a;
 layout(binding = 3) uniform sampler2D u_front_b;
 layout(binding = 4) uniform sampler2D u_back_a;
 layout(binding = 5) uniform sampler2D u_back_b;
+layout(binding = 6) uniform sampler2D u_back1_a;  // level 1 of the background pyramid
+layout(binding = 7) uniform sampler2D u_back1_b;
+layout(location = 7) uniform int u_push_back;     // 1: level 0 of u_back_* is not pushed yet
 
 layout(binding = 0, r32f) writeonly uniform image2D u_out_depth;
 layout(binding = 1, rgba16f) writeonly uniform image2D u_out_normal;
 layout(binding = 2, r8) writeonly uniform image2D u_out_valid;
+// Pixel class (render::DepthClass): 0 invalid, 1 front, 2 background filling a foreground hole.
+layout(binding = 3, r8ui) writeonly uniform uimage2D u_out_class;
 
 // Depth of a pull-push texel at pixel px: its tangent plane, within its depth interval.
 float TexelDepth(Texel t, vec2 px) { return PlaneDepth(t.a.xyz, t.b.xyz, px, DepthHalfWidth(t)); }
@@ -32,9 +40,10 @@ void main() {
   vec2 px = vec2(p) + 0.5;
   float depth = 0.0;
   vec3 normal = vec3(0.0);
+  uint cls = 1u;  // front unless the background fills the pixel (step 5)
   float splat_depth = texelFetch(u_splat_depth, p, 0).r;
-  vec4 splat_normal = texelFetch(u_splat_normal, p, 0);
 #if MODE == 0
+  vec4 splat_normal = texelFetch(u_splat_normal, p, 0);
   if (splat_normal.w > 0.0) {
     depth = splat_depth;
     normal = splat_normal.xyz;
@@ -52,16 +61,28 @@ void main() {
   Texel back;
   back.a = texelFetch(u_back_a, p, 0);
   back.b = texelFetch(u_back_b, p, 0);
-  if (splat_normal.w > 0.0) {
+  if (splat_depth > 0.0) {
+    if (!Valid(front) && !Valid(back) && u_push_back != 0) {
+      ivec2 base = PushBase(p);
+      ivec2 coarse_size = textureSize(u_back1_a, 0);
+      Texel t[4];
+      for (int i = 0; i < 4; ++i) {
+        ivec2 c = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), coarse_size - 1);
+        t[i].a = texelFetch(u_back1_a, c, 0);
+        t[i].b = texelFetch(u_back1_b, c, 0);
+      }
+      back = PushAverage(t, p, 1.0);
+    }
     if (Valid(front)) {
       depth = TexelDepth(front, px);
       normal = front.b.xyz;
     } else if (Valid(back)) {
       depth = TexelDepth(back, px);
       normal = back.b.xyz;
+      cls = 2u;
     } else {
       depth = splat_depth;
-      normal = splat_normal.xyz;
+      normal = -normalize(RayThroughPixel(px));
     }
   }
 #endif
@@ -70,4 +91,5 @@ void main() {
   imageStore(u_out_depth, p, vec4(valid ? depth : 0.0));
   imageStore(u_out_normal, p, vec4(valid ? normalize(normal) : vec3(0.0), 0.0));
   imageStore(u_out_valid, p, vec4(valid ? 1.0 : 0.0));
+  imageStore(u_out_class, p, uvec4(valid ? cls : 0u));
 }

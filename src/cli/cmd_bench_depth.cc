@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli/bench_cloud.h"
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
@@ -30,48 +30,6 @@ struct BenchDepthOptions {
   int frames = 3;
   std::string json;
 };
-
-// A generated scene: n points uniformly on a ground plane (6 x 6), a back wall and three
-// spheres, with normals and radii 1.25 x the mean spacing; seen by a 60-degree camera.
-PointCloud MakeCloud(size_t n) {
-  struct Sphere {
-    Eigen::Vector3d c;
-    double r;
-  };
-  const std::vector<Sphere> spheres = {
-      {{-1.0, -0.5, 0.0}, 0.5}, {{0.6, -0.4, 0.5}, 0.4}, {{0.0, -0.8, -1.0}, 0.8}};
-  const double ground = 36.0, wall = 18.0;
-  double area = ground + wall;
-  for (const auto& s : spheres) area += 4 * M_PI * s.r * s.r;
-  const float radius = static_cast<float>(1.25 * std::sqrt(area / static_cast<double>(n)));
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::normal_distribution<double> g(0.0, 1.0);
-  PointCloud pc;
-  pc.positions.reserve(n);
-  pc.normals.reserve(n);
-  for (size_t i = 0; i < n; ++i) {
-    const double pick = u(rng) * area;
-    Eigen::Vector3d p, nrm;
-    if (pick < ground) {  // y down: the ground is y = 0 facing -y
-      p = {6 * u(rng) - 3, 0.0, 6 * u(rng) - 3};
-      nrm = {0, -1, 0};
-    } else if (pick < ground + wall) {
-      p = {6 * u(rng) - 3, -3 * u(rng), 3.0};
-      nrm = {0, 0, -1};
-    } else {
-      const Sphere& s = spheres[i % spheres.size()];
-      Eigen::Vector3d d(g(rng), g(rng), g(rng));
-      d.normalize();
-      p = s.c + s.r * d;
-      nrm = d;
-    }
-    pc.positions.push_back(p.cast<float>());
-    pc.normals.push_back(nrm.cast<float>());
-  }
-  pc.radii.assign(n, radius);
-  return pc;
-}
 
 int Run(const BenchDepthOptions& opt) {
   if (opt.frames < 1) throw UsageError("--frames must be >= 1");
@@ -100,7 +58,7 @@ int Run(const BenchDepthOptions& opt) {
   const Rigid3d cam_from_world = LookAt(Eigen::Vector3d(0.0, -2.0, -4.5),
                                         Eigen::Vector3d(0.0, -0.5, 0.5), Eigen::Vector3d(0, -1, 0));
   for (size_t n : counts) {
-    pass.SetPoints(MakeCloud(n));
+    pass.SetPoints(MakeBenchCloud(n, DepthBenchScene()));
     for (const auto& [w, h] : sizes) {
       const double f = 0.5 * w / std::tan(M_PI / 6.0);
       const Camera cam = Camera::Pinhole(1, w, h, f, f, 0.5 * w, 0.5 * h);

@@ -8,11 +8,11 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli/bench_cloud.h"
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
@@ -48,36 +48,6 @@ std::vector<int> ParseInts(const std::string& s, const char* what, int min) {
   }
   if (out.empty()) throw UsageError(std::string(what) + ": empty list");
   return out;
-}
-
-// n points on a 6 x 6 ground (y = 0, y down) and a hemisphere-ish dome of radius 1 at the
-// centre, with normals and radii 1.25 x the mean spacing.
-PointCloud MakeCloud(size_t n) {
-  const double ground = 36.0, sphere = 2 * M_PI;  // upper half of a unit sphere
-  const double area = ground + sphere;
-  const float radius = static_cast<float>(1.25 * std::sqrt(area / static_cast<double>(n)));
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::normal_distribution<double> g(0.0, 1.0);
-  PointCloud pc;
-  pc.positions.reserve(n);
-  pc.normals.reserve(n);
-  for (size_t i = 0; i < n; ++i) {
-    Eigen::Vector3d p, nrm;
-    if (u(rng) * area < ground) {
-      p = {6 * u(rng) - 3, 0.0, 6 * u(rng) - 3};
-      nrm = {0, -1, 0};
-    } else {
-      Eigen::Vector3d d(g(rng), -std::abs(g(rng)), g(rng));
-      d.normalize();
-      p = d;
-      nrm = d;
-    }
-    pc.positions.push_back(p.cast<float>());
-    pc.normals.push_back(nrm.cast<float>());
-  }
-  pc.radii.assign(n, radius);
-  return pc;
 }
 
 // A scene of `count` photos on a ring around the dome, looking at it, with generated pixels.
@@ -122,7 +92,7 @@ int Run(const BenchRenderOptions& opt) {
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
-  const PointCloud cloud = MakeCloud(static_cast<size_t>(opt.points));
+  const PointCloud cloud = MakeBenchCloud(static_cast<size_t>(opt.points), DomeBenchScene());
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
   std::printf("%-10s %6s %5s %10s %10s %10s %10s %8s\n", "size", "photos", "K", "depth_ms",

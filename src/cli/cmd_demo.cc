@@ -6,11 +6,14 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <string>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "frontend/reconstruct.h"
@@ -38,6 +41,10 @@ struct DemoOptions {
   bool headless = false;
   int frames = 24;
   int threads = 0;
+  // The synthetic capture (a smaller one makes a quick demo, and the integration test).
+  std::string size = "640x480";
+  int series = 3;
+  int views = 16;
 };
 
 double Since(std::chrono::steady_clock::time_point t0) {
@@ -46,10 +53,19 @@ double Since(std::chrono::steady_clock::time_point t0) {
 
 // Stage 1: the synthetic capture (reused when present: WriteCapture renames a complete capture
 // into place, so an existing folder with a workspace is complete).
-fs::path MakeCapture(const fs::path& out, int threads) {
+fs::path MakeCapture(const fs::path& out, const synth::CaptureOptions& co) {
   const fs::path capture = out / "capture";
   if (fs::exists(capture / "workspace" / "series.json")) {
     std::printf("[1/4] capture: reusing %s\n", capture.c_str());
+    // Say so when it was made with other options: they are not applied to a reused capture.
+    std::ifstream in(capture / "gt" / "capture.json");
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (j.is_object() && (j.value("series", 0) != co.series || j.value("views", 0) != co.views ||
+                          j.value("width", 0) != co.width || j.value("height", 0) != co.height)) {
+      std::printf("      (made with %d series x %d views, %dx%d; remove it to apply the options)\n",
+                  j.value("series", 0), j.value("views", 0), j.value("width", 0),
+                  j.value("height", 0));
+    }
     return capture;
   }
   if (fs::exists(capture) && !fs::is_empty(capture)) {
@@ -58,8 +74,6 @@ fs::path MakeCapture(const fs::path& out, int threads) {
   std::printf("[1/4] capture: rendering the default synthetic scene into %s ...\n",
               capture.c_str());
   std::fflush(stdout);
-  synth::CaptureOptions co;
-  co.threads = threads;
   const synth::CaptureSummary s = synth::WriteCapture(co, capture);
   std::printf("      %d photos, %zu points, %.1f s\n", s.photos, s.points, s.total_seconds);
   return capture;
@@ -127,6 +141,12 @@ void RenderOrbit(const fs::path& workspace, const fs::path& out_dir, int frames)
                                &set);
   render::TonemapPass tonemap(shaders);
   fs::create_directories(out_dir);
+  // Frames of an earlier, longer orbit would look like part of this one.
+  for (const fs::directory_entry& e : fs::directory_iterator(out_dir)) {
+    const std::string name = e.path().filename().string();
+    const std::string ext = e.path().extension().string();
+    if (name.starts_with("frame_") && (ext == ".png" || ext == ".exr")) fs::remove(e.path());
+  }
   WriteCameraPath(out_dir / "path.json", path);
   // One L_a for the whole orbit (that of the first frame), so that frames do not flicker.
   std::optional<float> fixed_la;
@@ -147,10 +167,19 @@ void RenderOrbit(const fs::path& workspace, const fs::path& out_dir, int frames)
 
 int Run(const DemoOptions& opt) {
   if (opt.frames < 1) throw UsageError("--frames must be >= 1");
+  synth::CaptureOptions co;
+  const cv::Size size = ParseSize(opt.size);
+  co.width = size.width;
+  co.height = size.height;
+  co.series = opt.series;
+  co.views = opt.views;
+  co.threads = opt.threads;
+  if (opt.series < 2) throw UsageError("--series must be >= 2 (the HDR set merges exposures)");
+  if (opt.views < 2) throw UsageError("--views must be >= 2");
   const auto t0 = std::chrono::steady_clock::now();
   const fs::path out = fs::absolute(opt.out);
   fs::create_directories(out);
-  const fs::path capture = MakeCapture(out, opt.threads);
+  const fs::path capture = MakeCapture(out, co);
   const fs::path workspace = MakeWorkspace(out, capture, opt.reconstruct, opt.threads);
   MakeHdrSet(workspace);
   if (!opt.headless && viewer::CanOpenWindow()) {
@@ -188,6 +217,9 @@ CommandRunner SetupDemo(CLI::App& sub) {
   sub.add_option("--frames", opt->frames, "Frames of the headless orbit")->default_val(24);
   sub.add_option("--threads", opt->threads, "Threads for the capture (0 = all cores)")
       ->default_val(0);
+  sub.add_option("--size", opt->size, "Size of the synthetic photos, WxH")->default_val("640x480");
+  sub.add_option("--series", opt->series, "Exposure series of the capture")->default_val(3);
+  sub.add_option("--views", opt->views, "Views per series")->default_val(16);
   return [opt] { return Run(*opt); };
 }
 

@@ -30,6 +30,8 @@ struct EvalCliOptions {
   std::string depth_mode = "lechelek";
   int max_photo_size = 0;
   int k_best = 0;
+  std::string weights = "ulr";
+  float tolerance = render::BlendOptions().occlusion_tolerance;
 };
 
 int Run(const EvalCliOptions& opt) {
@@ -44,6 +46,11 @@ int Run(const EvalCliOptions& opt) {
   options.renderer.depth.mode = render::ParseDepthMode(opt.depth_mode);
   options.renderer.max_photo_size = opt.max_photo_size;
   options.renderer.blend.k_best = opt.k_best;
+  options.renderer.blend.weights = render::ParseBlendWeights(opt.weights);
+  options.renderer.blend.occlusion_tolerance = opt.tolerance;
+  if (!(opt.tolerance > 0.0f && opt.tolerance < 1.0f)) {
+    throw UsageError("--tolerance must be in (0, 1), got " + std::to_string(opt.tolerance));
+  }
   if (!(opt.size_scale > 0.0 && opt.size_scale <= 1.0)) {
     throw UsageError("--size-scale must be in (0, 1], got " + std::to_string(opt.size_scale));
   }
@@ -89,7 +96,14 @@ CommandRunner SetupEval(CLI::App& sub) {
       ->default_val("lechelek")
       ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
   sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU");
-  sub.add_option("--k-best", opt->k_best, "Blend only the K best photos per pixel (0 = all)");
+  sub.add_option("--k-best", opt->k_best,
+                 "K best photos per pixel (0: 4 for ulr, all for paper weights)");
+  sub.add_option("--weights", opt->weights,
+                 "Blending weights: ulr (Unstructured Lumigraph, K best) or paper (eq. 5, all)")
+      ->default_val("ulr")
+      ->check(CLI::IsMember({"paper", "ulr"}));
+  sub.add_option("--tolerance", opt->tolerance, "Occlusion test: relative depth tolerance")
+      ->capture_default_str();
   return [opt, loo, gt] {
     if (loo->count() == 0 && gt->count() == 0) {
       throw UsageError("eval: give --leave-one-out or --gt CAPTURE_DIR");

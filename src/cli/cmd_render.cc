@@ -41,6 +41,7 @@ struct RenderCliOptions {
   std::string debug;
   std::vector<std::string> exclude;
   int k_best = 0;
+  std::string weights = "ulr";
   std::string mode = "blend";
   std::string depth_mode = "lechelek";
   int max_photo_size = 0;
@@ -175,6 +176,16 @@ std::string SafeStem(const std::string& name) {
 
 // HDR rendering (issue 6): `--hdr-mode precomputed|onthefly|direct`; PNG = tone-mapped on the
 // GPU (Reinhard 2002, --exposure/--key/--gamma/--log-average), EXR = linear radiance + alpha.
+render::BlendOptions BlendOptionsFrom(const RenderCliOptions& opt) {
+  render::BlendOptions b;
+  b.mode = opt.mode == "nearest" ? render::BlendMode::kNearestPhoto : render::BlendMode::kBlend;
+  b.weights = render::ParseBlendWeights(opt.weights);
+  b.k_best = opt.k_best;
+  b.lambda = opt.lambda;
+  b.occlusion_tolerance = opt.tolerance;
+  return b;
+}
+
 int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<View>& views) {
   const render::HdrMode mode = render::ParseHdrMode(opt.hdr_mode);
   if (!opt.debug.empty() || !opt.exclude.empty()) {
@@ -198,11 +209,7 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
   render::RendererOptions ro;
   ro.depth.mode = render::ParseDepthMode(opt.depth_mode);
   ro.max_photo_size = opt.max_photo_size;
-  ro.blend.mode =
-      opt.mode == "nearest" ? render::BlendMode::kNearestPhoto : render::BlendMode::kBlend;
-  ro.blend.k_best = opt.k_best;
-  ro.blend.lambda = opt.lambda;
-  ro.blend.occlusion_tolerance = opt.tolerance;
+  ro.blend = BlendOptionsFrom(opt);
   render::HdrRenderer renderer(shaders, scene, mode, response, ro, set ? &*set : nullptr);
   render::TonemapPass tonemap(shaders);
   render::TonemapOptions tm;
@@ -281,11 +288,7 @@ int Run(const RenderCliOptions& opt) {
   render::RendererOptions ro;
   ro.depth.mode = depth_mode;
   ro.max_photo_size = opt.max_photo_size;
-  ro.blend.mode =
-      opt.mode == "nearest" ? render::BlendMode::kNearestPhoto : render::BlendMode::kBlend;
-  ro.blend.k_best = opt.k_best;
-  ro.blend.lambda = opt.lambda;
-  ro.blend.occlusion_tolerance = opt.tolerance;
+  ro.blend = BlendOptionsFrom(opt);
   ro.blend.debug_photo = debug.photo;
   render::Renderer renderer(shaders, scene, ro);
   renderer.SetActivePhotos(active);
@@ -339,8 +342,13 @@ CommandRunner SetupRender(CLI::App& sub) {
   sub.add_option("--debug", opt->debug,
                  "Write a debug map instead of the colour: count, weight:PHOTO, depth, normal");
   sub.add_option("--exclude", opt->exclude, "Photos left out (names)");
-  sub.add_option("--k-best", opt->k_best, "Blend only the K best photos per pixel (0 = all)")
+  sub.add_option("--k-best", opt->k_best,
+                 "K best photos per pixel (0: 4 for ulr, all for paper weights)")
       ->default_val(0);
+  sub.add_option("--weights", opt->weights,
+                 "Blending weights: ulr (Unstructured Lumigraph, K best) or paper (eq. 5, all)")
+      ->default_val("ulr")
+      ->check(CLI::IsMember({"paper", "ulr"}));
   sub.add_option("--mode", opt->mode, "blend (the paper) or nearest (single nearest photo)")
       ->default_val("blend")
       ->check(CLI::IsMember({"blend", "nearest"}));

@@ -28,7 +28,10 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_option("--depth-mode", opt->depth_mode, "plain, marroquim or lechelek")
       ->default_val("lechelek")
       ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
-  sub.add_option("--k-best", opt->k_best, "Blend only the K best photos (0 = all)")
+  sub.add_option("--weights", opt->weights, "Blending weights: ulr or paper (eq. 5)")
+      ->default_val("ulr")
+      ->check(CLI::IsMember({"paper", "ulr"}));
+  sub.add_option("--k-best", opt->k_best, "K best photos (0: 4 for ulr, all for paper)")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);
   sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold")->default_val(1e-4);
@@ -50,8 +53,14 @@ CommandRunner SetupView(CLI::App& sub) {
                  "Scripted: write the last frame (.png tone-mapped + .exr linear)");
   sub.add_option("--window-screenshot", opt->window_screenshot,
                  "Scripted: write the whole window (picture + UI) of the last frame (.png)");
+  sub.add_option("--display", opt->display,
+                 "Display mode: final, depth, normals, classes, count, splats, nearest")
+      ->default_val("final")
+      ->check(
+          CLI::IsMember({"final", "depth", "normals", "classes", "count", "splats", "nearest"}));
   sub.add_flag("--help-overlay", opt->show_help, "Open the key help overlay at start");
   sub.add_flag("--frustums", opt->show_frustums, "Draw the input camera frustums at start");
+  sub.add_flag("--hide-panel", opt->hide_panel, "Start without the control panel (U shows it)");
   sub.add_option("--play", opt->play, "Play this camera path (JSON) from the start");
   sub.add_option("--record", opt->record, "Where R saves the recorded path (hdribr_path.json)");
   sub.add_flag("--benchmark", opt->benchmark,

@@ -126,4 +126,10 @@ GLuint64 TimestampQuery::ResultNs() const {
   return ns;
 }
 
+bool TimestampQuery::Available() const {
+  GLuint available = GL_FALSE;
+  glGetQueryObjectuiv(id_, GL_QUERY_RESULT_AVAILABLE, &available);
+  return available == GL_TRUE;
+}
+
 }  // namespace hdribr::gl

@@ -148,12 +148,13 @@ class TimerQuery : public Object<QueryTraits> {
 };
 
 // GL_TIMESTAMP query: Stamp() records the GPU time when the commands before it are done;
-// ResultNs() waits for it.
+// ResultNs() waits for it, Available() tells without waiting whether it is there.
 class TimestampQuery : public Object<QueryTraits> {
  public:
   static TimestampQuery Create();
   void Stamp() const { glQueryCounter(id_, GL_TIMESTAMP); }
   GLuint64 ResultNs() const;
+  bool Available() const;
 };
 
 }  // namespace hdribr::gl

@@ -91,9 +91,20 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   if (options.encoding == PhotoEncoding::kRadiance && response == nullptr) {
     throw UsageError("radiance blending needs a response curve (RendererOptions::response)");
   }
-  // K >= the active photos is all of them (exactly); otherwise K is bounded by MAX_K.
-  const int k_best = options.k_best >= active_count_ ? 0 : options.k_best;
-  if (k_best < 0 || k_best > kMaxKBest) {
+  if (options.k_best < 0) {
+    throw UsageError("k_best must be 0 (all) or 1.." + std::to_string(kMaxKBest) + ", got " +
+                     std::to_string(options.k_best));
+  }
+  const bool ulr = options.weights == BlendWeights::kUnstructured;
+  int k_best = options.k_best;
+  if (ulr) {
+    // K >= the active photos: every photo, thresholded at the cosine horizon (shader).
+    if (k_best == 0) k_best = kDefaultUnstructuredK;
+    k_best = std::min({k_best, std::max(active_count_, 1), kMaxKBest});
+  } else if (k_best >= active_count_) {
+    k_best = 0;  // K >= the active photos is all of them (exactly)
+  }
+  if (k_best > kMaxKBest) {
     throw UsageError("k_best must be 0 (all) or 1.." + std::to_string(kMaxKBest) + ", got " +
                      std::to_string(options.k_best));
   }
@@ -112,6 +123,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1i(p, 8, options.debug_photo);
   glProgramUniform1i(p, 9, options.encoding == PhotoEncoding::kRadiance ? 1 : 0);
   glProgramUniform1i(p, 10, options.mode == BlendMode::kNearestPhoto ? 1 : 0);
+  glProgramUniform1i(p, 11, ulr ? 1 : 0);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program_.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());

@@ -38,6 +38,7 @@ DepthTarget DepthTarget::Create(int width, int height) {
   t.depth = gl::Texture::Create2D(GL_R32F, width, height);
   t.normal = gl::Texture::Create2D(GL_RGBA16F, width, height);
   t.valid = gl::Texture::Create2D(GL_R8, width, height);
+  t.classes = gl::Texture::Create2D(GL_R8UI, width, height);
   return t;
 }
 
@@ -201,6 +202,8 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
 
   // Step 1: elliptical splats with depth test (plain and lechelek).
   begin(0);
+  // The step-1 normal is the output of plain only; lechelek needs depth and coverage.
+  buf.splat_fb.SetDrawBuffers(mode == DepthMode::kPlain ? 2 : 1);
   ClearTarget(buf.splat_fb);
   if (draw && mode != DepthMode::kMarroquim) {
     buf.splat_fb.Bind(width, height);
@@ -256,9 +259,14 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   // Step 3: pull-push (on the foreground and background separately for lechelek).
   begin(2);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  // The background's last push (level 1 to 0) is left to the resolve, which needs it only
+  // where the foreground has a hole.
+  const bool push_back_in_resolve = buf.back.levels() >= 2;
   if (draw && mode != DepthMode::kPlain) {
     pull_push_.Process(buf.front, intr);
-    if (mode == DepthMode::kLechelek) pull_push_.Process(buf.back, intr);
+    if (mode == DepthMode::kLechelek) {
+      pull_push_.Process(buf.back, intr, push_back_in_resolve ? 1 : 0);
+    }
   }
   end(2);
 
@@ -273,13 +281,20 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   glBindTextureUnit(3, buf.front.b[0].id());
   glBindTextureUnit(4, buf.back.a[0].id());
   glBindTextureUnit(5, buf.back.b[0].id());
+  const size_t back1 = push_back_in_resolve ? 1 : 0;
+  glBindTextureUnit(6, buf.back.a[back1].id());
+  glBindTextureUnit(7, buf.back.b[back1].id());
+  if (mode == DepthMode::kLechelek) {
+    glProgramUniform1i(resolve.id(), 7, push_back_in_resolve && draw ? 1 : 0);
+  }
   glBindImageTexture(0, target.depth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glBindImageTexture(1, target.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, target.valid.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+  glBindImageTexture(3, target.classes.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
   glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8), 1);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   end(3);
-  for (int u = 0; u < 6; ++u) glBindTextureUnit(static_cast<GLuint>(u), 0);
+  for (int u = 0; u < 8; ++u) glBindTextureUnit(static_cast<GLuint>(u), 0);
   glUseProgram(0);
 
   if (profile) {

@@ -2,6 +2,7 @@
 // camera-space depth, normal and validity of a point cloud seen from any pinhole camera.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -23,6 +24,12 @@ enum class DepthMode {
   kLechelek,   // the paper's five steps (default)
 };
 
+// Values of DepthTarget::classes (written by the resolve step). plain and marroquim write
+// kFront on every valid pixel; lechelek writes kBackground where the background pull-push
+// filled a hole of the foreground (step 5), kFront elsewhere (foreground pull-push, or the
+// step-1 splat as a last resort).
+enum class DepthClass : std::uint8_t { kInvalid = 0, kFront = 1, kBackground = 2 };
+
 // "plain", "marroquim", "lechelek"; ParseDepthMode throws UsageError for anything else.
 std::string DepthModeName(DepthMode mode);
 DepthMode ParseDepthMode(const std::string& name);
@@ -30,11 +37,12 @@ std::vector<DepthMode> AllDepthModes();
 
 // Output of the pass, at any resolution: camera z (R32F, positive forward, 0 = invalid),
 // camera-space unit normal facing the camera (RGBA16F, xyz; COLMAP axes), validity (R8,
-// 1 = valid). Row 0 is the top image row.
+// 1 = valid) and the pixel class (R8UI, DepthClass). Row 0 is the top image row.
 struct DepthTarget {
   gl::Texture depth;
   gl::Texture normal;
   gl::Texture valid;
+  gl::Texture classes;
 
   static DepthTarget Create(int width, int height);
   int width() const { return depth.width(); }

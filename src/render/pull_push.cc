@@ -34,7 +34,8 @@ PullPushPass::PullPushPass(const gl::ShaderLibrary& shaders, bool occlude)
     : pull_(shaders.Build({"pull.comp"})),
       push_(shaders.Build({"push.comp"}, {{"OCCLUDE", occlude ? "1" : "0"}})) {}
 
-void PullPushPass::Process(PullPushPyramid& pyramid, const float intrinsics[4]) {
+void PullPushPass::Process(PullPushPyramid& pyramid, const float intrinsics[4],
+                           int last_push_level) {
   const float size[2] = {static_cast<float>(pyramid.width), static_cast<float>(pyramid.height)};
   for (const gl::Program* prog : {&pull_, &push_}) {
     glProgramUniform4fv(prog->id(), 2, 1, intrinsics);
@@ -52,7 +53,7 @@ void PullPushPass::Process(PullPushPyramid& pyramid, const float intrinsics[4]) 
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
   push_.Use();
-  for (int l = levels - 2; l >= 0; --l) {
+  for (int l = levels - 2; l >= last_push_level; --l) {
     glProgramUniform1f(push_.id(), 5, static_cast<float>(1 << l));
     glBindImageTexture(0, pyramid.a[l].id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glBindImageTexture(1, pyramid.b[l].id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);

@@ -28,8 +28,9 @@ class PullPushPass {
   // occlude: in the push, replace valid texels lying behind the pushed surface.
   PullPushPass(const gl::ShaderLibrary& shaders, bool occlude = false);
   // Fills the holes of level 0 of `pyramid` in place. The camera uniforms (intrinsics of the
-  // target) are set on both programs from `intrinsics` (fx, fy, cx, cy) and the size.
-  void Process(PullPushPyramid& pyramid, const float intrinsics[4]);
+  // target) are set on both programs from `intrinsics` (fx, fy, cx, cy) and the size. The
+  // push stops at level `last_push_level` (> 0: the caller pushes the finer levels itself).
+  void Process(PullPushPyramid& pyramid, const float intrinsics[4], int last_push_level = 0);
 
  private:
   gl::Program pull_;

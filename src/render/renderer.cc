@@ -15,6 +15,17 @@
 
 namespace hdribr::render {
 
+std::string BlendWeightsName(BlendWeights weights) {
+  return weights == BlendWeights::kUnstructured ? "ulr" : "paper";
+}
+
+BlendWeights ParseBlendWeights(const std::string& name) {
+  for (BlendWeights w : {BlendWeights::kPaper, BlendWeights::kUnstructured}) {
+    if (BlendWeightsName(w) == name) return w;
+  }
+  throw UsageError("unknown blending weights '" + name + "' (paper, ulr)");
+}
+
 RenderTarget RenderTarget::Create(int width, int height) {
   RenderTarget t;
   t.depth = DepthTarget::Create(width, height);
@@ -32,9 +43,23 @@ struct Renderer::Impl {
   PhotoDepthMaps depth_maps;
   gl::Texture response;  // 256 x 1 RGB32F g(Z), empty without a response curve
   std::vector<int> active;
+  // Two sets of timestamp queries used in turn, so that a render loop reads a frame's times
+  // when the next one is issued instead of stalling on them.
+  struct Stamps {
+    gl::TimestampQuery t[3] = {gl::TimestampQuery::Create(), gl::TimestampQuery::Create(),
+                               gl::TimestampQuery::Create()};
+    bool unread = false;
+  };
+  Stamps stamps[2];
+  int newest = 0;  // the set of the newest Render()
   RenderTimes times;
-  gl::TimestampQuery stamps[3] = {gl::TimestampQuery::Create(), gl::TimestampQuery::Create(),
-                                  gl::TimestampQuery::Create()};
+
+  void ReadStamps(Stamps& s) {
+    const GLuint64 t0 = s.t[0].ResultNs(), t1 = s.t[1].ResultNs(), t2 = s.t[2].ResultNs();
+    times.depth_ms = static_cast<double>(t1 - t0) * 1e-6;
+    times.blend_ms = static_cast<double>(t2 - t1) * 1e-6;
+    s.unread = false;
+  }
   std::optional<RenderTarget> scratch;  // RenderToImages' target
 
   Impl(const gl::ShaderLibrary& shaders, const Scene& s, RendererOptions o)
@@ -131,17 +156,18 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
     const int best = m.NearestPhoto(cam_from_world);
     m.blend.SetActive(best >= 0 ? std::vector<int>{best} : std::vector<int>{});
   }
-  m.stamps[0].Stamp();
+  // The older set is re-used: read it first if it is done (it is overwritten otherwise).
+  m.newest = 1 - m.newest;
+  Impl::Stamps& stamps = m.stamps[m.newest];
+  if (stamps.unread && stamps.t[2].Available()) m.ReadStamps(stamps);
+  stamps.t[0].Stamp();
   m.depth_pass.Process(cam, cam_from_world, target.depth);
-  m.stamps[1].Stamp();
+  stamps.t[1].Stamp();
   m.blend.Process(cam, cam_from_world, target.depth, m.options.blend,
                   m.response ? &m.response : nullptr, target.color, target.aux);
-  m.stamps[2].Stamp();
+  stamps.t[2].Stamp();
+  stamps.unread = true;
   if (nearest) m.blend.SetActive(m.active);
-  const GLuint64 t0 = m.stamps[0].ResultNs(), t1 = m.stamps[1].ResultNs(),
-                 t2 = m.stamps[2].ResultNs();
-  m.times.depth_ms = static_cast<double>(t1 - t0) * 1e-6;
-  m.times.blend_ms = static_cast<double>(t2 - t1) * 1e-6;
 }
 
 RenderImages Renderer::RenderToImages(const Camera& camera, const Rigid3d& cam_from_world,
@@ -178,7 +204,27 @@ RenderImages Renderer::Read(const RenderTarget& target) {
 BlendOptions& Renderer::blend_options() { return impl_->options.blend; }
 DepthPass& Renderer::depth_pass() { return impl_->depth_pass; }
 const Scene& Renderer::scene() const { return impl_->scene; }
-const RenderTimes& Renderer::last_times() const { return impl_->times; }
+const RenderTimes& Renderer::last_times() {
+  Impl& m = *impl_;
+  if (m.stamps[m.newest].unread) {
+    m.ReadStamps(m.stamps[m.newest]);
+    m.stamps[1 - m.newest].unread = false;  // older than what was just read
+  }
+  return m.times;
+}
+
+const RenderTimes& Renderer::polled_times() {
+  Impl& m = *impl_;
+  Impl::Stamps& newest = m.stamps[m.newest];
+  Impl::Stamps& older = m.stamps[1 - m.newest];
+  if (newest.unread && newest.t[2].Available()) {
+    m.ReadStamps(newest);
+    older.unread = false;
+  } else if (older.unread && older.t[2].Available()) {
+    m.ReadStamps(older);
+  }
+  return m.times;
+}
 
 size_t Renderer::gpu_bytes() const {
   const gl::Texture& d = impl_->depth_maps.depth();

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <unordered_map>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/point_cloud.h"
@@ -12,9 +13,10 @@
 namespace hdribr::synth {
 
 // Back-projects every `stride`-th pixel centre of each view's depth map (exact ray hits) and
-// keeps the first point per voxel of `voxel` scene units. The radius of a point is its pixel
-// footprint times the stride, stretched by 1 / |cos| of the viewing angle (at most 4x), and at
-// least `voxel`: neighbouring splats overlap.
+// keeps the first point per voxel of `voxel` scene units. The radius of a point is made as for
+// a reconstructed cloud (frontend EstimateRadii): the mean distance to its `kRadiusNeighbors`
+// nearest neighbours, clamped to [1/4, 4] x the median, so splats follow the local spacing
+// (a radius from one view's pixel footprint overhangs silhouettes seen from other views).
 class PointSampler {
  public:
   PointSampler(double voxel, int stride);
@@ -23,11 +25,17 @@ class PointSampler {
   // sRGB-like gamma 1/2.2 for the 8-bit colours).
   void AddView(const RenderedView& view, const Camera& camera, const Rigid3d& cam_from_world,
                double colour_scale);
-  const PointCloud& cloud() const { return cloud_; }
+  // The samples so far, radii computed on the first call after AddView.
+  const PointCloud& cloud();
+
+  static constexpr int kRadiusNeighbors = 6;  // as frontend AttributeOptions::radius_neighbors
 
  private:
+  void EstimateRadii();
+
   double voxel_;
   int stride_;
+  bool radii_stale_ = false;
   PointCloud cloud_;
   std::unordered_map<std::uint64_t, std::uint32_t> occupied_;
 };

@@ -26,10 +26,13 @@
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
 #include "render/hdr_render.h"
+#include "render/point_color_pass.h"
 #include "render/render_output.h"
 #include "render/renderer.h"
 #include "render/tonemap_pass.h"
 #include "viewer/camera_controller.h"
+#include "viewer/false_colour_pass.h"
+#include "viewer/frustum_pass.h"
 #include "viewer/recorder.h"
 
 namespace hdribr::viewer {
@@ -39,9 +42,15 @@ using Clock = std::chrono::steady_clock;
 
 double NowS() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
 
-enum class DisplayMode { kFinal, kDepth, kNormals, kCount, kNearestPhoto };
-constexpr const char* kDisplayNames[] = {"final", "depth", "normals", "contributing count",
-                                         "nearest photo"};
+// Keys 1 ... 7 in this order.
+enum class DisplayMode { kFinal, kDepth, kNormals, kClasses, kCount, kPointColours, kNearestPhoto };
+constexpr int kDisplayModes = 7;
+// --display names, in DisplayMode order.
+constexpr const char* kDisplayNames[kDisplayModes] = {"final", "depth",  "normals", "classes",
+                                                      "count", "splats", "nearest"};
+constexpr const char* kDisplayCombo =
+    "final\0depth\0normals\0front/back classes\0contributing count\0colour-per-point "
+    "splats\0nearest photo\0";
 constexpr const char* kSourceNames[] = {"ldr", "precomputed", "onthefly", "direct"};
 
 // Every key of the viewer, for the help overlay and docs/usage.md.
@@ -55,11 +64,12 @@ constexpr const char* kHelp[][2] = {
     {"Home or 0", "reset the view"},
     {"+ / -", "exposure +- 1/2 EV (tone-map pass only)"},
     {"T", "tone mapping on / off"},
-    {"1 ... 5", "display: final, depth, normals, count heat map, nearest photo"},
-    {"F", "input camera frustums on / off"},
+    {"1 ... 7", "display: final, depth, normals, classes, count, splats, nearest photo"},
+    {"F", "input camera frustums (3D, hidden by the scene) on / off"},
     {"P", "screenshot (PNG tone-mapped + EXR linear)"},
     {"R", "start / stop recording a camera path"},
     {"L", "play the recorded (or --play) path"},
+    {"U", "control panel on / off"},
     {"H", "this help"},
     {"Esc", "quit"},
 };
@@ -68,6 +78,7 @@ struct Settings {
   int source = 0;  // index into kSourceNames
   int series = -1;
   int depth_mode = 2;  // plain, marroquim, lechelek
+  int weights = 1;     // paper, ulr (render::BlendWeights order)
   int k_best = 0;
   float lambda = 1e-4f;
   float tolerance = 0.01f;
@@ -96,6 +107,15 @@ class ViewerApp {
                        std::to_string(scene_.series.size()) + " series");
     }
     settings_.depth_mode = static_cast<int>(render::ParseDepthMode(opt.depth_mode));
+    const auto* mode = std::find(std::begin(kDisplayNames), std::end(kDisplayNames), opt.display);
+    if (mode == std::end(kDisplayNames)) {
+      throw UsageError(
+          "--display must be final, depth, normals, classes, count, splats or "
+          "nearest, got '" +
+          opt.display + "'");
+    }
+    display_mode_ = static_cast<DisplayMode>(mode - std::begin(kDisplayNames));
+    settings_.weights = static_cast<int>(render::ParseBlendWeights(opt.weights));
     settings_.k_best = opt.k_best;
     settings_.lambda = opt.lambda;
     settings_.tolerance = opt.tolerance;
@@ -121,11 +141,12 @@ class ViewerApp {
  private:
   void Load();
   void RenderIfNeeded(int width, int height);
-  void Colourise(DisplayMode mode);
+  void RenderSplats(const Camera& cam, const Rigid3d& pose);
   void Blit(int fb_width, int fb_height);
   void HandleInput(double dt);
   void DrawUi();
-  void DrawFrustums();
+  void DrawPanel();
+  void DrawLegend();
   void Screenshot(const std::filesystem::path& png);
   void SnapTo(int photo);
   void Benchmark();
@@ -142,9 +163,16 @@ class ViewerApp {
   std::unique_ptr<render::HdrRenderer> hdr_;
   std::unique_ptr<render::LoadedHdrPhotoSet> set_;
   std::unique_ptr<render::TonemapPass> tonemap_pass_;
+  std::unique_ptr<FalseColourPass> false_colour_;
+  std::unique_ptr<FrustumPass> frustum_pass_;
+  std::unique_ptr<render::PointColorPass> point_pass_;
+  bool point_colours_known_ = true;  // false: the cloud has no colours (grey splats)
   render::RenderTarget target_;
-  gl::Texture display_;
+  gl::Texture display_;  // what the screenshot saves: the picture without overlays
   gl::Framebuffer display_fb_;
+  gl::Texture composite_;  // display_ + the frustums, when they are shown
+  gl::Framebuffer composite_fb_;
+  gl::Texture splats_;  // RGBA32F colour-per-point splats (a = covered), tone-mapped like final
   Settings settings_, loaded_settings_;
   bool loaded_ = false;
   bool options_dirty_ = false;  // display mode changed: blend mode to update
@@ -154,7 +182,7 @@ class ViewerApp {
   float fixed_la_ = 1;  // target units
   float last_la_ = 1;
   DisplayMode display_mode_ = DisplayMode::kFinal;
-  bool frustums_ = opt_.show_frustums, help_ = opt_.show_help;
+  bool frustums_ = opt_.show_frustums, help_ = opt_.show_help, panel_ = !opt_.hide_panel;
   // Dirty flags: the radiance target (camera / blend) and the display (tone mapping).
   bool render_dirty_ = true, display_dirty_ = true;
   Rigid3d rendered_pose_;
@@ -202,6 +230,7 @@ void ViewerApp::Load() {
                 BaseRenderer().gpu_bytes() / 1048576.0);
   }
   render::Renderer& r = BaseRenderer();
+  r.blend_options().weights = static_cast<render::BlendWeights>(settings_.weights);
   r.blend_options().k_best = settings_.k_best;
   r.blend_options().lambda = settings_.lambda;
   r.blend_options().occlusion_tolerance = settings_.tolerance;
@@ -229,6 +258,10 @@ void ViewerApp::RenderIfNeeded(int width, int height) {
     display_ = gl::Texture::Create2D(GL_RGBA8, width, height);
     display_fb_ = gl::Framebuffer::Create();
     display_fb_.AttachColor(0, display_);
+    composite_ = gl::Texture::Create2D(GL_RGBA8, width, height);
+    composite_fb_ = gl::Framebuffer::Create();
+    composite_fb_.AttachColor(0, composite_);
+    splats_ = gl::Texture::Create2D(GL_RGBA32F, width, height);
     render_dirty_ = true;
   }
   const Rigid3d pose = controller_->cam_from_world();
@@ -244,6 +277,7 @@ void ViewerApp::RenderIfNeeded(int width, int height) {
     } else {
       ldr_->Render(cam, pose, target_);
     }
+    if (display_mode_ == DisplayMode::kPointColours) RenderSplats(cam, pose);
     glFinish();
     render_wall_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     render_gpu_ = BaseRenderer().last_times();
@@ -253,15 +287,48 @@ void ViewerApp::RenderIfNeeded(int width, int height) {
   }
   if (display_dirty_) {
     const auto t0 = Clock::now();
-    if (display_mode_ == DisplayMode::kFinal || display_mode_ == DisplayMode::kNearestPhoto) {
-      render::TonemapOptions o = tonemap_;
-      o.exposure = std::exp2(exposure_ev_);
-      if (!auto_la_) o.fixed_log_average = fixed_la_;
-      last_la_ = tonemap_pass_->Apply(target_.color, o, display_);
-      tonemap_gpu_ms_ = tonemap_pass_->last_ms();
-    } else {
-      Colourise(display_mode_);
-      tonemap_gpu_ms_ = 0;
+    const int photos = static_cast<int>(scene_.photos.size());
+    switch (display_mode_) {
+      case DisplayMode::kFinal:
+      case DisplayMode::kNearestPhoto: {
+        render::TonemapOptions o = tonemap_;
+        o.exposure = std::exp2(exposure_ev_);
+        if (!auto_la_) o.fixed_log_average = fixed_la_;
+        last_la_ = tonemap_pass_->Apply(target_.color, o, display_);
+        tonemap_gpu_ms_ = tonemap_pass_->last_ms();
+        break;
+      }
+      case DisplayMode::kPointColours: {
+        // The cloud's colours are display values (sRGB 8-bit): exposure only, no curve.
+        render::TonemapOptions o;
+        o.enabled = false;
+        o.exposure = std::exp2(exposure_ev_);
+        o.gamma = 1.0f;
+        tonemap_pass_->Apply(splats_, o, display_);
+        tonemap_gpu_ms_ = tonemap_pass_->last_ms();
+        break;
+      }
+      case DisplayMode::kDepth:
+        false_colour_->Apply(FalseColourMap::kDepth, target_, photos, display_);
+        tonemap_gpu_ms_ = 0;
+        break;
+      case DisplayMode::kNormals:
+        false_colour_->Apply(FalseColourMap::kNormals, target_, photos, display_);
+        tonemap_gpu_ms_ = 0;
+        break;
+      case DisplayMode::kCount:
+        false_colour_->Apply(FalseColourMap::kCount, target_, photos, display_);
+        tonemap_gpu_ms_ = 0;
+        break;
+      case DisplayMode::kClasses:
+        if (target_.depth.classes.empty()) {  // a depth pass without classes: nothing to show
+          glClearTexImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        } else {
+          false_colour_->Apply(FalseColourMap::kClasses, target_, photos, display_,
+                               &target_.depth.classes);
+        }
+        tonemap_gpu_ms_ = 0;
+        break;
     }
     glFinish();
     tonemap_wall_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -269,27 +336,15 @@ void ViewerApp::RenderIfNeeded(int width, int height) {
   }
 }
 
-// Debug displays: read back, false colour on the CPU, upload (slow path, not for timing).
-void ViewerApp::Colourise(DisplayMode mode) {
-  const render::RenderImages im = render::Renderer::Read(target_);
-  const cv::Mat depth_valid = im.depth > 0;
-  cv::Mat bgr;
-  if (mode == DisplayMode::kDepth) {
-    double lo = 0, hi = 0;
-    cv::minMaxLoc(im.depth, &lo, &hi, nullptr, nullptr, depth_valid);
-    bgr = render::FalseColour(-im.depth, -hi, -lo, depth_valid);
-  } else if (mode == DisplayMode::kNormals) {
-    cv::cvtColor(im.normal, bgr, cv::COLOR_RGB2BGR);
-    bgr.convertTo(bgr, CV_8UC3, 127.5, 127.5);
-    bgr.setTo(cv::Scalar(0, 0, 0), depth_valid == 0);
-  } else {
-    const int photos = static_cast<int>(BaseRenderer().scene().photos.size());
-    bgr = render::FalseColour(im.count, 0, std::max(1, photos), depth_valid);
-  }
+// Colour-per-point splats (the paper's Fig. 8 baseline) into splats_, for the tone-map pass.
+void ViewerApp::RenderSplats(const Camera& cam, const Rigid3d& pose) {
+  const render::PointColorImages im =
+      point_pass_->Render(cam, pose, splats_.width(), splats_.height());
   cv::Mat rgba;
-  cv::cvtColor(bgr, rgba, cv::COLOR_BGR2RGBA);
-  glTextureSubImage2D(display_.id(), 0, 0, 0, rgba.cols, rgba.rows, GL_RGBA, GL_UNSIGNED_BYTE,
-                      rgba.ptr());
+  cv::cvtColor(im.color, rgba, cv::COLOR_BGR2RGBA);
+  rgba.setTo(cv::Scalar(0, 0, 0, 0), im.valid == 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(splats_.id(), 0, 0, 0, rgba.cols, rgba.rows, GL_RGBA, GL_FLOAT, rgba.ptr());
 }
 
 void ViewerApp::Blit(int fb_width, int fb_height) {
@@ -298,9 +353,20 @@ void ViewerApp::Blit(int fb_width, int fb_height) {
   glClearColor(0.08f, 0.08f, 0.08f, 1);
   glClear(GL_COLOR_BUFFER_BIT);
   if (display_.empty()) return;
+  GLuint source = display_fb_.id();
+  if (frustums_ && frustum_pass_) {
+    // Frustums over a copy, so that display_ (the screenshot) stays the bare picture.
+    glCopyImageSubData(display_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, composite_.id(), GL_TEXTURE_2D, 0,
+                       0, 0, 0, display_.width(), display_.height(), 1);
+    frustum_pass_->Draw(ViewCamera(display_.width(), display_.height()), rendered_pose_,
+                        target_.depth.depth, composite_fb_, current_photo_);
+    source = composite_fb_.id();
+  }
   // The display texture's row 0 is the image's top row; the window's row 0 is its bottom.
-  glBlitNamedFramebuffer(display_fb_.id(), 0, 0, 0, display_.width(), display_.height(), 0,
-                         fb_height, fb_width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, fb_width, fb_height);
+  glBlitNamedFramebuffer(source, 0, 0, 0, display_.width(), display_.height(), 0, fb_height,
+                         fb_width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
 void ViewerApp::SnapTo(int photo) {
@@ -370,43 +436,18 @@ void ViewerApp::HandleInput(double dt) {
   }
 }
 
-void ViewerApp::DrawFrustums() {
-  const ImGuiIO& io = ImGui::GetIO();
-  const Camera cam =
-      ViewCamera(static_cast<int>(io.DisplaySize.x), static_cast<int>(io.DisplaySize.y));
-  const Rigid3d pose = controller_->cam_from_world();
-  ImDrawList* draw = ImGui::GetBackgroundDrawList();
-  const double depth = 0.15 * scene_.scene_scale;
-  for (size_t i = 0; i < scene_.photos.size(); ++i) {
-    const Photo& p = scene_.photos[i];
-    const Camera& pc = scene_.cameras.at(p.camera_id);
-    const Rigid3d world_from_photo = p.cam_from_world.Inverse();
-    const Eigen::Vector3d apex = world_from_photo.translation;
-    Eigen::Vector3d corners[4];
-    const Eigen::Vector2d px[4] = {{0, 0},
-                                   {double(pc.width), 0},
-                                   {double(pc.width), double(pc.height)},
-                                   {0, double(pc.height)}};
-    for (int c = 0; c < 4; ++c) corners[c] = world_from_photo * (pc.CamFromPixel(px[c]) * depth);
-    auto project = [&](const Eigen::Vector3d& world, ImVec2& out) {
-      const Eigen::Vector3d c = pose * world;
-      if (c.z() <= 1e-6 * scene_.scene_scale) return false;
-      const Eigen::Vector2d uv = cam.PixelFromCam(c);
-      out = ImVec2(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
-      return true;
-    };
-    const ImU32 colour = static_cast<int>(i) == current_photo_ ? IM_COL32(255, 200, 0, 255)
-                                                               : IM_COL32(80, 200, 255, 160);
-    ImVec2 a, b, q;
-    if (!project(apex, a)) continue;
-    for (int c = 0; c < 4; ++c) {
-      if (project(corners[c], b)) draw->AddLine(a, b, colour);
-      if (project(corners[c], b) && project(corners[(c + 1) % 4], q)) draw->AddLine(b, q, colour);
-    }
+void ViewerApp::DrawUi() {
+  if (panel_) DrawPanel();
+  if (help_) {
+    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, 40), ImGuiCond_Always,
+                            ImVec2(0.5f, 0));
+    ImGui::Begin("keys (H)", &help_, ImGuiWindowFlags_AlwaysAutoResize);
+    for (const auto& k : kHelp) ImGui::Text("%-16s %s", k[0], k[1]);
+    ImGui::End();
   }
 }
 
-void ViewerApp::DrawUi() {
+void ViewerApp::DrawPanel() {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.75f);
   ImGui::Begin("hdribr", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
@@ -443,28 +484,52 @@ void ViewerApp::DrawUi() {
     if (ImGui::Combo("series", &s, items.c_str())) settings_.series = s - 1;
   }
   ImGui::Combo("depth", &settings_.depth_mode, "plain\0marroquim\0lechelek\0");
-  ImGui::SliderInt("K best (0 = all)", &settings_.k_best, 0, 16);
+  ImGui::Combo("weights", &settings_.weights, "paper (eq. 5)\0unstructured lumigraph\0");
+  ImGui::SliderInt(settings_.weights == 0 ? "K best (0 = all)" : "K (0 = 4)", &settings_.k_best, 0,
+                   16);
   ImGui::SliderFloat("lambda", &settings_.lambda, 0.0f, 0.5f, "%.4f");
   ImGui::SliderFloat("occlusion tol.", &settings_.tolerance, 0.001f, 0.1f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
   int mode = static_cast<int>(display_mode_);
-  if (ImGui::Combo("display", &mode,
-                   "final\0depth\0normals\0contributing count\0nearest photo\0")) {
+  if (ImGui::Combo("display", &mode, kDisplayCombo)) {
     display_mode_ = static_cast<DisplayMode>(mode);
     options_dirty_ = true;  // the blend mode may change
   }
+  DrawLegend();
   ImGui::Checkbox("camera frustums", &frustums_);
   ImGui::Text("%s", recorder_.recording() ? "RECORDING (R to stop)" : status_.c_str());
   ImGui::End();
+}
 
-  if (help_) {
-    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, 40), ImGuiCond_Always,
-                            ImVec2(0.5f, 0));
-    ImGui::Begin("keys (H)", &help_, ImGuiWindowFlags_AlwaysAutoResize);
-    for (const auto& k : kHelp) ImGui::Text("%-16s %s", k[0], k[1]);
-    ImGui::End();
+// One line under the display combo saying how to read the current display mode.
+void ViewerApp::DrawLegend() {
+  switch (display_mode_) {
+    case DisplayMode::kDepth:
+      ImGui::TextUnformatted("depth: near red ... far blue (turbo over the visible range)");
+      break;
+    case DisplayMode::kNormals:
+      ImGui::TextUnformatted("normals: RGB = camera-space (x, y, z) / 2 + 1/2");
+      break;
+    case DisplayMode::kCount:
+      ImGui::Text("count: 0 blue ... %zu photos red", scene_.photos.size());
+      break;
+    case DisplayMode::kClasses: {
+      const auto colour = [](const float* c) { return ImVec4(c[0], c[1], c[2], 1.0f); };
+      ImGui::TextColored(colour(kFrontColour), "front");
+      ImGui::SameLine();
+      ImGui::TextColored(colour(kFilledColour), "background-filled");
+      ImGui::SameLine();
+      ImGui::TextUnformatted("black: no depth");
+      break;
+    }
+    case DisplayMode::kPointColours:
+      ImGui::TextUnformatted(point_colours_known_
+                                 ? "splats: one colour per point (the cloud's), no blending"
+                                 : "splats: the cloud has no colours (grey)");
+      break;
+    default:
+      break;
   }
-  if (frustums_) DrawFrustums();
 }
 
 void ViewerApp::Benchmark() {
@@ -525,6 +590,21 @@ int ViewerApp::Run() {
     window_.SwapBuffers();
   }
   tonemap_pass_ = std::make_unique<render::TonemapPass>(shaders_);
+  false_colour_ = std::make_unique<FalseColourPass>(shaders_);
+  frustum_pass_ = std::make_unique<FrustumPass>(shaders_);
+  frustum_pass_->SetLines(MakeFrustumLines(scene_, 0.15 * scene_.scene_scale));
+  point_pass_ = std::make_unique<render::PointColorPass>(shaders_);
+  {
+    // The cloud's sRGB colours (BGR, 0..1); grey when it has none.
+    const PointCloud& cloud = scene_.points;
+    point_colours_known_ = cloud.HasColors();
+    std::vector<Eigen::Vector3f> bgr(cloud.size(), Eigen::Vector3f::Constant(0.5f));
+    for (size_t i = 0; point_colours_known_ && i < cloud.size(); ++i) {
+      const auto& c = cloud.colors[i];
+      bgr[i] = Eigen::Vector3f(c[2], c[1], c[0]) / 255.0f;
+    }
+    point_pass_->SetPoints(cloud, bgr);
+  }
 
   int frame = 0;
   double last = NowS(), fps_clock = last;
@@ -555,6 +635,7 @@ int ViewerApp::Run() {
       auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
       if (pressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);
       if (pressed(GLFW_KEY_H)) help_ = !help_;
+      if (pressed(GLFW_KEY_U)) panel_ = !panel_;
       if (pressed(GLFW_KEY_F)) frustums_ = !frustums_;
       if (pressed(GLFW_KEY_T)) {
         tonemap_.enabled = !tonemap_.enabled;
@@ -572,9 +653,8 @@ int ViewerApp::Run() {
       if (pressed(GLFW_KEY_RIGHT_BRACKET)) SnapTo(current_photo_ + 1);
       if (pressed(GLFW_KEY_LEFT_BRACKET)) SnapTo(current_photo_ - 1);
       if (pressed(GLFW_KEY_HOME) || pressed(GLFW_KEY_0)) controller_->Reset();
-      const int digits[] = {GLFW_KEY_1, GLFW_KEY_2, GLFW_KEY_3, GLFW_KEY_4, GLFW_KEY_5};
-      for (int d = 0; d < 5; ++d) {
-        if (pressed(digits[d])) {
+      for (int d = 0; d < kDisplayModes; ++d) {
+        if (pressed(GLFW_KEY_1 + d)) {
           display_mode_ = static_cast<DisplayMode>(d);
           options_dirty_ = true;
         }

@@ -19,6 +19,7 @@ struct ViewerOptions {
   std::string hdr = "auto";
   int series = -1;  // LDR: blend only this exposure series (-1 = all photos)
   std::string depth_mode = "lechelek";
+  std::string weights = "ulr";  // blending weights: "ulr" or "paper"
   int k_best = 0;
   float lambda = 1e-4f;
   float tolerance = 0.01f;
@@ -35,8 +36,11 @@ struct ViewerOptions {
   std::filesystem::path screenshot;
   // Scripted: the whole window (picture + UI) of the last frame, PNG (docs screenshots).
   std::filesystem::path window_screenshot;
+  // Display mode at start: final, depth, normals, classes, count, splats, nearest (keys 1-7).
+  std::string display = "final";
   bool show_help = false;        // open the help overlay at start
   bool show_frustums = false;    // draw the input camera frustums at start
+  bool hide_panel = false;       // start without the control panel (U toggles it)
   std::filesystem::path play;    // camera path to play back from the start
   std::filesystem::path record;  // where the R key (or --frames with --record) saves the path
   // Measures exposure-change vs camera-move frame costs and prints them (then exits).

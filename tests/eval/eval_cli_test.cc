@@ -118,11 +118,9 @@ TEST(EvalCli, DefaultCaptureMeetsTheQualityTargets) {
             << " dB, colour per point " << points << " dB\n";
   EXPECT_GE(ours, 30.0);
   EXPECT_GE(ours - points, 3.0);
-  // Issue 5 also asks for ours - nearest >= 1 dB. Measured on 2026-11-23: 31.97 vs 32.62 dB
-  // (-0.65 dB; SSIM 0.956 vs 0.909): NOT met, so it is logged, not asserted, and reported in
-  // docs/benchmarks.md. The target is not loosened: the line below says whether it holds.
-  std::cout << "target hdribr - nearest photo >= 1 dB: "
-            << (ours - nearest >= 1.0 ? "met" : "NOT met") << " (" << ours - nearest << " dB)\n";
+  // With the paper's eq. 5 weights (--weights paper) this was 31.97 vs 32.62 dB (-0.65 dB);
+  // the default Unstructured Lumigraph weights (docs/algorithms.md) measured 33.69 dB.
+  EXPECT_GE(ours - nearest, 1.0);
   RecordProperty("psnr_gain_over_nearest_db", std::to_string(ours - nearest));
 }
 

@@ -5,31 +5,20 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "hdr/response_error.h"
 #include "hdr/synthetic_stack.h"
 
 namespace hdribr {
 namespace {
 
 using test::MedianAbsLogRatio;
+using test::RmsLinearError;
 using test::SyntheticRadiance;
 using test::SyntheticResponse;
 using test::SyntheticStack;
 
 const std::vector<double> kTimes = {1.0 / 64, 1.0 / 32, 1.0 / 16, 1.0 / 8,
                                     1.0 / 4,  1.0 / 2,  1.0,      2.0};
-
-// RMS of exp(g - g_true - offset) - 1 over 10..245 DN, offset the least-squares log offset.
-double RmsLinearError(const ResponseCurve& got, const ResponseCurve& truth, int c) {
-  double offset = 0;
-  for (int z = 10; z <= 245; ++z) offset += got.log_inverse[c][z] - truth.log_inverse[c][z];
-  offset /= 236;
-  double sum = 0;
-  for (int z = 10; z <= 245; ++z) {
-    const double e = std::exp(got.log_inverse[c][z] - truth.log_inverse[c][z] - offset) - 1.0;
-    sum += e * e;
-  }
-  return std::sqrt(sum / 236);
-}
 
 bool AllFinite(const cv::Mat& m) { return cv::checkRange(m, true, nullptr, -1e38, 1e38); }
 

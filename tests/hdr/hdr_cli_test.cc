@@ -5,31 +5,18 @@
 #include <filesystem>
 #include <string>
 
+#include "cli_capture.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "render/hdr_photo_set.h"
-#include "synth/capture.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
 
-fs::path Capture(const std::string& tag, int series) {
-  const fs::path dir = test::TempDir(tag) / "capture";
-  synth::CaptureOptions opt;
-  opt.series = series;
-  opt.views = 4;
-  opt.width = 120;
-  opt.height = 90;
-  opt.novel_views = 1;
-  opt.threads = 2;
-  synth::WriteCapture(opt, dir);
-  return dir;
-}
-
 TEST(HdrCli, BuildsTheSetAndRendersTheThreeModes) {
-  const fs::path cap = Capture("hdr_cli", 2);
+  const fs::path cap = test::WriteSmallCapture("hdr_cli", 2);
   const fs::path ws = cap / "workspace";
   const std::string exe = HDRIBR_EXE;
   auto r = test::RunCommand(exe + " hdr " + ws.string() + " --truth " + cap.string());
@@ -66,7 +53,7 @@ TEST(HdrCli, BuildsTheSetAndRendersTheThreeModes) {
 }
 
 TEST(HdrCli, OneSeriesIsAClearError) {
-  const fs::path ws = Capture("hdr_cli_one", 1) / "workspace";
+  const fs::path ws = test::WriteSmallCapture("hdr_cli_one", 1) / "workspace";
   const auto r = test::RunCommand(std::string(HDRIBR_EXE) + " hdr " + ws.string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("at least two"), std::string::npos) << r.output;

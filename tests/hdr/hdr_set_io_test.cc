@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "hdr/radiance_compare.h"
+#include "hdr/response_error.h"
 #include "io/exr.h"
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
@@ -20,21 +21,7 @@
 namespace hdribr::render {
 namespace {
 namespace fs = std::filesystem;
-
-// RMS of exp(g - g_true - offset) - 1 over lo..245 DN, offset the mean log difference there
-// (the measure of tests/hdr/debevec_test.cc).
-double RmsLinearError(const ResponseCurve& got, const ResponseCurve& truth, int c, int lo = 10) {
-  const int n = 245 - lo + 1;
-  double offset = 0;
-  for (int z = lo; z <= 245; ++z) offset += got.log_inverse[c][z] - truth.log_inverse[c][z];
-  offset /= n;
-  double sum = 0;
-  for (int z = lo; z <= 245; ++z) {
-    const double e = std::exp(got.log_inverse[c][z] - truth.log_inverse[c][z] - offset) - 1.0;
-    sum += e * e;
-  }
-  return std::sqrt(sum / n);
-}
+using test::RmsLinearError;
 
 class HdrSetIoTest : public ::testing::Test {
  protected:

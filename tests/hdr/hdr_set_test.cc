@@ -15,6 +15,7 @@
 #include "gl/context.h"
 #include "gl/debug.h"
 #include "hdr/radiance_compare.h"
+#include "hdr/response_error.h"
 #include "io/colmap_model.h"
 #include "io/exr.h"
 #include "io/workspace.h"
@@ -25,20 +26,7 @@
 namespace hdribr::render {
 namespace {
 namespace fs = std::filesystem;
-
-// RMS of exp(g - g_true - offset) - 1 over 10..245 DN, offset the mean log difference.
-double RmsLinearError(const ResponseCurve& got, const ResponseCurve& truth, int c, int lo = 10) {
-  const int n = 245 - lo + 1;
-  double offset = 0;
-  for (int z = lo; z <= 245; ++z) offset += got.log_inverse[c][z] - truth.log_inverse[c][z];
-  offset /= n;
-  double sum = 0;
-  for (int z = lo; z <= 245; ++z) {
-    const double e = std::exp(got.log_inverse[c][z] - truth.log_inverse[c][z] - offset) - 1.0;
-    sum += e * e;
-  }
-  return std::sqrt(sum / n);
-}
+using test::RmsLinearError;
 
 bool AllFinite(const cv::Mat& m) { return cv::checkRange(m); }
 

@@ -100,34 +100,6 @@ Camera TestCamera(int size) {
   return Camera::Pinhole(1, size, size, f, f, 0.5 * size, 0.5 * size);
 }
 
-DepthScores ScoreDepth(const cv::Mat& depth, const cv::Mat& gt, double rel_tol, double leak_tol) {
-  long covered = 0, accurate = 0, leak = 0, valid_cov = 0, empty = 0, spurious = 0;
-  for (int y = 0; y < gt.rows; ++y) {
-    for (int x = 0; x < gt.cols; ++x) {
-      const float g = gt.at<float>(y, x);
-      const float d = depth.at<float>(y, x);
-      if (g <= 0) {
-        ++empty;
-        if (d > 0) ++spurious;
-        continue;
-      }
-      ++covered;
-      if (d <= 0) continue;
-      ++valid_cov;
-      if (std::abs(d - g) <= rel_tol * g) ++accurate;
-      if (d > g * (1.0 + leak_tol)) ++leak;
-    }
-  }
-  DepthScores s;
-  if (covered > 0) {
-    s.accuracy = double(accurate) / covered;
-    s.leakage = double(leak) / covered;
-    s.coverage = double(valid_cov) / covered;
-  }
-  if (empty > 0) s.spurious = double(spurious) / empty;
-  return s;
-}
-
 cv::Mat SilhouetteBand(const cv::Mat& gt, int radius) {
   cv::Mat mask = gt > 0;
   cv::Mat kernel =

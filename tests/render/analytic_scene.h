@@ -39,16 +39,6 @@ struct AnalyticScene {
 // 256x256 pinhole camera with a 58 degree field of view.
 Camera TestCamera(int size = 256);
 
-// Depth accuracy figures against a ground-truth depth map.
-struct DepthScores {
-  double accuracy = 0;  // share of GT-covered pixels valid and within rel_tol of GT
-  double leakage = 0;   // share of GT-covered pixels valid and deeper than GT by > leak_tol
-  double coverage = 0;  // share of GT-covered pixels that are valid
-  double spurious = 0;  // share of GT-empty pixels that are valid (in GT-empty pixels)
-};
-DepthScores ScoreDepth(const cv::Mat& depth, const cv::Mat& gt, double rel_tol = 0.01,
-                       double leak_tol = 0.05);
-
 // Pixels within `radius` pixels of a GT coverage edge (CV_8UC1, 255 = in the band).
 cv::Mat SilhouetteBand(const cv::Mat& gt, int radius = 2);
 

@@ -161,7 +161,9 @@ TEST_F(BlendPassTest, DebugMapsAndViewLookingAway) {
 TEST_F(BlendPassTest, KBestAndSubsetSwitching) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
-  Renderer r(shaders, scene_);
+  RendererOptions ro;
+  ro.blend.weights = BlendWeights::kPaper;  // K best by the paper's weight
+  Renderer r(shaders, scene_, ro);
   const std::vector<int> others = SameSeriesExcept(3);
   r.SetActivePhotos(others);
   const RenderImages all = RenderPhotoView(r, 3);
@@ -203,17 +205,65 @@ TEST_F(BlendPassTest, KBestAndSubsetSwitching) {
   EXPECT_GT(Coverage(nearest), 0.5);
 }
 
+TEST_F(BlendPassTest, UnstructuredLumigraphWeights) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  RendererOptions ro;
+  EXPECT_EQ(ro.blend.weights, BlendWeights::kUnstructured);  // the default
+  ro.blend.k_best = 2;
+  Renderer r(shaders, scene_, ro);
+  // Photo 3 among the inputs, seen from its own viewpoint: its penalty is ~0, so its normalised
+  // weight is ~1 wherever it sees the surface (the paper's eq. 5 spreads it over every photo).
+  std::vector<int> with = SameSeriesExcept(3);
+  with.push_back(3);
+  r.SetActivePhotos(with);
+  r.blend_options().debug_photo = 3;
+  const RenderImages self = RenderPhotoView(r, 3);
+  ExpectSane(self, 2);
+  double max_count = 0;
+  cv::minMaxLoc(self.count, nullptr, &max_count);
+  EXPECT_LE(max_count, 2.0);  // at most K photos per pixel
+  const cv::Mat seen = (self.weight > 0.0f) & (self.valid > 0);
+  ASSERT_GT(cv::countNonZero(seen), 1000);
+  EXPECT_GT(cv::mean(self.weight, seen)[0], 0.97);
+  r.blend_options().weights = BlendWeights::kPaper;
+  r.blend_options().k_best = 0;  // all photos
+  const RenderImages paper = RenderPhotoView(r, 3);
+  EXPECT_LT(cv::mean(paper.weight, seen)[0], 0.6);
+  // Leave-one-out: the same coverage as the paper's weights (same visibility tests) and a
+  // closer image (docs/benchmarks.md has the figures of the default capture).
+  r.SetActivePhotos(SameSeriesExcept(3));
+  r.blend_options().debug_photo = -1;
+  const RenderImages paper_loo = RenderPhotoView(r, 3);
+  r.blend_options().weights = BlendWeights::kUnstructured;
+  r.blend_options().k_best = 0;  // the default K
+  const RenderImages ulr_loo = RenderPhotoView(r, 3);
+  ExpectSane(ulr_loo, kDefaultUnstructuredK);
+  EXPECT_EQ(cv::countNonZero(ulr_loo.valid != paper_loo.valid), 0);
+  const double p_paper = Psnr(paper_loo, 3), p_ulr = Psnr(ulr_loo, 3);
+  std::printf("leave-one-out photo 3: paper weights %.2f dB, ULR K=%d %.2f dB\n", p_paper,
+              kDefaultUnstructuredK, p_ulr);
+  EXPECT_GT(p_ulr, p_paper);
+  EXPECT_EQ(ParseBlendWeights(BlendWeightsName(BlendWeights::kUnstructured)),
+            BlendWeights::kUnstructured);
+  EXPECT_THROW(ParseBlendWeights("cosine"), UsageError);
+}
+
 TEST_F(BlendPassTest, PhotoSizesFloatPhotosAndMaxPhotoSize) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   const std::vector<int> others = SameSeriesExcept(4);
-  Renderer base(shaders, scene_);
+  // The paper's weights spread the weight over every photo, so the loss from the half-size
+  // photos below stays bounded whichever photo is the nearest (ULR lets it dominate).
+  RendererOptions paper;
+  paper.blend.weights = BlendWeights::kPaper;
+  Renderer base(shaders, scene_, paper);
   base.SetActivePhotos(others);
   const RenderImages ref = RenderPhotoView(base, 4);
   const size_t base_bytes = base.gpu_bytes();
 
   // Different sizes: every other photo at half size (the array keeps the largest).
-  RendererOptions mixed;
+  RendererOptions mixed = paper;
   for (size_t i = 0; i < scene_.photos.size(); ++i) {
     cv::Mat img = ReadImage(scene_.photos[i].image_path);
     if (i % 2 == 1) cv::resize(img, img, cv::Size(80, 60), 0, 0, cv::INTER_AREA);
@@ -229,7 +279,7 @@ TEST_F(BlendPassTest, PhotoSizesFloatPhotosAndMaxPhotoSize) {
   EXPECT_EQ(cv::countNonZero(im_mixed.valid != ref.valid), 0);
 
   // Float photos (an HDR photo set path): RGBA16F, same values as the 8-bit photos / 255.
-  RendererOptions fl;
+  RendererOptions fl = paper;
   for (size_t i = 0; i < scene_.photos.size(); ++i) {
     cv::Mat f;
     ReadImage(scene_.photos[i].image_path).convertTo(f, CV_32FC3, 1.0 / 255.0);
@@ -242,7 +292,7 @@ TEST_F(BlendPassTest, PhotoSizesFloatPhotosAndMaxPhotoSize) {
   EXPECT_LT(cv::norm(im_float.color, ref.color, cv::NORM_INF), 2.0 / 255.0);
 
   // --max-photo-size: smaller textures, a blurrier but still close render.
-  RendererOptions small;
+  RendererOptions small = paper;
   small.max_photo_size = 64;
   Renderer r_small(shaders, scene_, small);
   r_small.SetActivePhotos(others);

@@ -9,19 +9,16 @@
 
 #include "analytic_scene.h"
 #include "core/error.h"
+#include "depth_compare.h"
 #include "gl/context.h"
 #include "gl/debug.h"
 #include "render/photo_depth_maps.h"
 #include "render/readback.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 namespace hdribr::render {
 namespace {
 
 using test::AnalyticScene;
-using test::DepthScores;
 
 class DepthPassTest : public ::testing::Test {
  protected:
@@ -96,35 +93,12 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
     for (const Rigid3d& view : views) {
       const cv::Mat gt = scene.GroundTruthDepth(cam, view);
       const cv::Mat depth = Render(pass, cam, view, mode).depth;
-      const DepthScores s = test::ScoreDepth(depth, gt);
-      if (const char* dump = std::getenv("HDRIBR_TEST_DUMP")) {
-        // Debug aid: green = within 1%, red = too deep, blue = too near, white = missing.
-        cv::Mat img(gt.size(), CV_8UC3, cv::Scalar(0, 0, 0));
-        for (int y = 0; y < gt.rows; ++y) {
-          for (int x = 0; x < gt.cols; ++x) {
-            const float g = gt.at<float>(y, x), d = depth.at<float>(y, x);
-            cv::Vec3b c(0, 0, 0);
-            if (g > 0 && d <= 0)
-              c = {255, 255, 255};
-            else if (g <= 0 && d > 0)
-              c = {0, 255, 255};
-            else if (g > 0 && std::abs(d - g) <= 0.01 * g)
-              c = {0, 120, 0};
-            else if (g > 0 && d > g)
-              c = {0, 0, 255};
-            else if (g > 0)
-              c = {255, 0, 0};
-            img.at<cv::Vec3b>(y, x) = c;
-          }
-        }
-        cv::imwrite(std::string(dump) + "/" + DepthModeName(mode) + "_" +
-                        std::to_string(&view - views.data()) + ".png",
-                    img);
-      }
-      acc += s.accuracy / views.size();
-      leak += s.leakage / views.size();
-      worst_acc = std::min(worst_acc, s.accuracy);
-      worst_leak = std::max(worst_leak, s.leakage);
+      const test::DepthCounts s = test::CompareDepth(
+          depth, gt, DepthModeName(mode) + "_" + std::to_string(&view - views.data()));
+      acc += s.accuracy() / views.size();
+      leak += s.leakage() / views.size();
+      worst_acc = std::min(worst_acc, s.accuracy());
+      worst_leak = std::max(worst_leak, s.leakage());
     }
     std::printf(
         "[ figures  ] %-9s accuracy(1%%) %.2f%% (worst view %.2f%%)  leakage %.3f%% "
@@ -134,6 +108,53 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
       EXPECT_GE(worst_acc, 0.97);    // issue 4 target
       EXPECT_LE(worst_leak, 0.005);  // issue 4 target
     }
+  }
+}
+
+TEST_F(DepthPassTest, ClassesOfTwoLayers) {
+  // A near point (z = 2, splat radius about 2 px) in front of the centre of a far disc (z = 4,
+  // radius about 20 px): in step 2 the far point is background (its centre is hidden), the
+  // foreground pull-push holds the near point only, so the far disc around it is background
+  // filling the foreground's hole (class 2, step 5) and the near pixels are front (class 1).
+  // plain and marroquim: 1 on every valid pixel. Class 0 exactly where the output is invalid.
+  const Camera cam = test::TestCamera(128);
+  const double px_at_4 = 4.0 / cam.fx();  // world units of one pixel at z = 4
+  PointCloud pc;
+  auto add = [&](const Eigen::Vector3d& p, double radius) {
+    pc.positions.push_back(p.cast<float>());
+    pc.normals.push_back(Eigen::Vector3f(0, 0, -1));
+    pc.radii.push_back(static_cast<float>(radius));
+  };
+  const Eigen::Vector3d far(3 * px_at_4, -2 * px_at_4, 4.0);
+  add(far, 20 * px_at_4);
+  add(0.5 * far, 2 * px_at_4 / 2);  // same ray, half as far: 2 px
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  for (DepthMode mode : AllDepthModes()) {
+    pass.options().mode = mode;
+    DepthTarget target = DepthTarget::Create(cam.width, cam.height);
+    pass.Process(cam, Rigid3d(), target);
+    const DepthImages out = ReadDepthTarget(target);
+    const cv::Mat classes = test::ReadTextureR8UI(target.classes);
+    const auto is = [&](DepthClass c) { return classes == static_cast<uint8_t>(c); };
+    const cv::Mat back = is(DepthClass::kBackground);
+    const cv::Mat near_px = (out.depth > 0) & (out.depth < 3.0);
+    std::printf("[ figures  ] %-9s classes: front %d background %d invalid %d (near %d)\n",
+                DepthModeName(mode).c_str(), cv::countNonZero(is(DepthClass::kFront)),
+                cv::countNonZero(back), cv::countNonZero(is(DepthClass::kInvalid)),
+                cv::countNonZero(near_px));
+    EXPECT_EQ(cv::countNonZero(is(DepthClass::kInvalid) != (out.valid == 0)), 0)
+        << DepthModeName(mode);
+    EXPECT_EQ(cv::countNonZero(classes > 2), 0) << DepthModeName(mode);
+    EXPECT_GT(cv::countNonZero(near_px), 0) << DepthModeName(mode);
+    EXPECT_EQ(cv::countNonZero(near_px & ~is(DepthClass::kFront)), 0) << DepthModeName(mode);
+    if (mode != DepthMode::kLechelek) {
+      EXPECT_EQ(cv::countNonZero(back), 0) << DepthModeName(mode);
+      continue;
+    }
+    EXPECT_GT(cv::countNonZero(back), 0);
+    // Background pixels show the wall.
+    EXPECT_EQ(cv::countNonZero(back & (cv::abs(out.depth - 4.0f) > 0.04f)), 0);
   }
 }
 
@@ -223,10 +244,10 @@ TEST_F(DepthPassTest, NoNormalsNoRadiiGiveViewFacingDiscs) {
   pass.SetPoints(pc);
   for (DepthMode mode : AllDepthModes()) {
     const DepthImages out = Render(pass, cam, Rigid3d(), mode);
-    const DepthScores s = test::ScoreDepth(out.depth, gt);
+    const test::DepthCounts s = test::CompareDepth(out.depth, gt);
     std::printf("[ figures  ] %-9s no normals: accuracy %.2f%%\n", DepthModeName(mode).c_str(),
-                100 * s.accuracy);
-    EXPECT_GE(s.accuracy, 0.9) << DepthModeName(mode);
+                100 * s.accuracy());
+    EXPECT_GE(s.accuracy(), 0.9) << DepthModeName(mode);
     const cv::Vec3f n = out.normal.at<cv::Vec3f>(64, 64);  // centre: view-facing = -z
     EXPECT_NEAR(n[2], -1.0f, 1e-2);
   }
@@ -242,14 +263,14 @@ TEST_F(DepthPassTest, CameraInsideCloud) {
   DepthPass pass(*shaders_);
   pass.SetPoints(pc);
   for (DepthMode mode : AllDepthModes()) {
-    const DepthScores s = test::ScoreDepth(Render(pass, cam, Rigid3d(), mode).depth, gt);
+    const test::DepthCounts s = test::CompareDepth(Render(pass, cam, Rigid3d(), mode).depth, gt);
     std::printf("[ figures  ] %-9s inside the cloud: accuracy %.2f%% coverage %.2f%%\n",
-                DepthModeName(mode).c_str(), 100 * s.accuracy, 100 * s.coverage);
+                DepthModeName(mode).c_str(), 100 * s.accuracy(), 100 * s.coverage());
     // Random sampling leaves ~1-2% of pixels uncovered by any splat (plain, lechelek).
-    EXPECT_GE(s.coverage, 0.97) << DepthModeName(mode);
+    EXPECT_GE(s.coverage(), 0.97) << DepthModeName(mode);
     // Constant-depth splats (plain) err by r tan(off-axis angle) here; pull-push does not.
     if (mode != DepthMode::kPlain) {
-      EXPECT_GE(s.accuracy, 0.97) << DepthModeName(mode);
+      EXPECT_GE(s.accuracy(), 0.97) << DepthModeName(mode);
     }
   }
 }
@@ -266,8 +287,8 @@ TEST_F(DepthPassTest, AnyResolutionAndDistortedCameraRefused) {
   EXPECT_EQ(out.depth.cols, 128);
   DepthTarget small = DepthTarget::Create(96, 64);
   pass.Process(cam, Rigid3d(), small);
-  const DepthScores s = test::ScoreDepth(ReadDepthTarget(small).depth, gt);
-  EXPECT_GE(s.accuracy, 0.9);
+  const test::DepthCounts s = test::CompareDepth(ReadDepthTarget(small).depth, gt);
+  EXPECT_GE(s.accuracy(), 0.9);
 
   Camera distorted = cam;
   distorted.model = CameraModel::kSimpleRadial;

@@ -5,35 +5,16 @@
 #include <fstream>
 #include <opencv2/imgproc.hpp>
 
+#include "cli_capture.h"
 #include "io/camera_spec.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "io/workspace.h"
-#include "synth/capture.h"
-#include "test_util.h"
 
 namespace hdribr {
 namespace {
 
-class RenderCliTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new std::filesystem::path(test::TempDir("render_cli") / "capture");
-    synth::CaptureOptions opt;
-    opt.series = 1;
-    opt.views = 4;
-    opt.width = 128;
-    opt.height = 96;
-    opt.novel_views = 1;
-    opt.threads = 2;
-    synth::WriteCapture(opt, *dir_);
-  }
-  static void TearDownTestSuite() { delete dir_; }
-  static std::string Exe() { return HDRIBR_EXE; }
-  static std::string Ws() { return (*dir_ / "workspace").string(); }
-  static std::filesystem::path* dir_;
-};
-std::filesystem::path* RenderCliTest::dir_ = nullptr;
+class RenderCliTest : public test::SmallCaptureTest<1> {};
 
 TEST_F(RenderCliTest, PngAndExrOfAPhotoView) {
   const auto out = test::TempDir("render_cli_png");
@@ -44,7 +25,7 @@ TEST_F(RenderCliTest, PngAndExrOfAPhotoView) {
   EXPECT_NE(r.output.find("valid"), std::string::npos) << r.output;
   const cv::Mat png = ReadImage(out / "a.png");
   ASSERT_EQ(png.size(), cv::Size(128, 96));
-  const cv::Mat photo = ReadImage(*dir_ / "workspace" / "images" / "s0_v01.jpg");
+  const cv::Mat photo = ReadImage(Dir() / "workspace" / "images" / "s0_v01.jpg");
   // Left out of its own view, the photo is still reproduced: mean absolute error over the
   // non-black pixels (invalid pixels are written as 0).
   cv::Mat gray;
@@ -84,7 +65,7 @@ TEST_F(RenderCliTest, DebugMapsPathAndNearest) {
   EXPECT_NE(r.output.find("mean photos/pixel 1.00"), std::string::npos) << r.output;
 
   // A camera path between two photo views: 0.5 s at 4 fps = 3 frames.
-  const Scene scene = LoadWorkspace(*dir_ / "workspace");
+  const Scene scene = LoadWorkspace(Dir() / "workspace");
   CameraPath path;
   path.fps = 4;
   path.times_s = {0.0, 0.5};
@@ -122,7 +103,7 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
 
   // A photo missing on disk: an error naming the file, no output.
   const auto ws = out / "ws";
-  std::filesystem::copy(*dir_ / "workspace", ws, std::filesystem::copy_options::recursive);
+  std::filesystem::copy(Dir() / "workspace", ws, std::filesystem::copy_options::recursive);
   std::filesystem::remove(ws / "images" / "s0_v03.jpg");
   r = test::RunCommand(Exe() + " render " + ws.string() + " --camera s0_v00.jpg --out " +
                        (out / "m.png").string());

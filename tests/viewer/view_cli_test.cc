@@ -7,11 +7,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cli_capture.h"
 #include "io/camera_spec.h"
 #include "io/exr.h"
 #include "io/workspace.h"
-#include "synth/capture.h"
-#include "test_util.h"
 
 namespace hdribr {
 namespace {
@@ -23,34 +22,15 @@ cv::Mat ReadPng(const std::filesystem::path& path) {
   return m;
 }
 
-bool HaveXvfb() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
-
-class ViewCliTest : public ::testing::Test {
+class ViewCliTest : public test::SmallCaptureTest<2> {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new std::filesystem::path(test::TempDir("view_cli") / "capture");
-    synth::CaptureOptions opt;
-    opt.series = 2;
-    opt.views = 4;
-    opt.width = 128;
-    opt.height = 96;
-    opt.novel_views = 1;
-    opt.threads = 2;
-    synth::WriteCapture(opt, *dir_);
-  }
-  static void TearDownTestSuite() { delete dir_; }
   void SetUp() override {
-    if (!HaveXvfb()) GTEST_SKIP() << "xvfb-run is not installed: skipping the viewer tests";
+    if (!test::HaveXvfb()) GTEST_SKIP() << "xvfb-run is not installed: skipping the viewer tests";
   }
-  static std::string Exe() { return HDRIBR_EXE; }
-  static std::string Ws() { return (*dir_ / "workspace").string(); }
   static test::CommandResult View(const std::string& args) {
-    return test::RunCommand("xvfb-run -a -s '-screen 0 640x480x24' " + Exe() + " view " + Ws() +
-                            " " + args);
+    return test::RunUnderXvfb(Exe() + " view " + Ws() + " " + args);
   }
-  static std::filesystem::path* dir_;
 };
-std::filesystem::path* ViewCliTest::dir_ = nullptr;
 
 // Mean absolute difference (8-bit levels) over pixels valid in both, and the fraction of
 // pixels whose validity (alpha) differs.
@@ -163,6 +143,116 @@ TEST_F(ViewCliTest, PlaysACameraPath) {
   const Comparison c = Compare(ReadPng(out / "play.png"), ReadPng(out / "render.png"));
   EXPECT_LT(c.validity_mismatch, 0.001);
   EXPECT_LT(c.mad, 0.5);
+}
+
+// The GPU-coloured debug displays equal `hdribr render --debug` of the same camera.
+TEST_F(ViewCliTest, DebugDisplaysMatchRenderDebugMaps) {
+  const auto out = test::TempDir("view_cli_debug");
+  const std::pair<std::string, std::string> modes[] = {
+      {"depth", "depth"}, {"normals", "normal"}, {"count", "count"}};
+  for (const auto& [display, debug] : modes) {
+    const std::string shot = (out / ("view_" + display + ".png")).string();
+    auto r = View("--hdr ldr --camera s1_v01.jpg --display " + display + " --screenshot " + shot);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string ref = (out / ("render_" + debug + ".png")).string();
+    r = test::RunCommand(Exe() + " render " + Ws() + " --camera s1_v01.jpg --debug " + debug +
+                         " --out " + ref);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const cv::Mat view = ReadPng(shot);
+    const cv::Mat render = cv::imread(ref, cv::IMREAD_COLOR);
+    ASSERT_EQ(view.size(), render.size());
+    std::vector<cv::Mat> c;
+    cv::split(view, c);
+    const cv::Mat valid = c[3] > 0;
+    EXPECT_GT(cv::countNonZero(valid), 128 * 96 / 2) << display;
+    cv::Mat bgr, diff, gray;
+    cv::cvtColor(view, bgr, cv::COLOR_BGRA2BGR);
+    cv::absdiff(bgr, render, diff);
+    cv::cvtColor(diff, gray, cv::COLOR_BGR2GRAY);
+    // Rounding only: a turbo index may step by one where t * 255 + 0.5 is at a boundary.
+    const int off = cv::countNonZero(gray > 2);
+    std::printf("display %s vs render --debug %s: %d of %d pixels differ by > 2\n", display.c_str(),
+                debug.c_str(), off, cv::countNonZero(valid));
+    EXPECT_LE(off, cv::countNonZero(valid) / 100) << display;
+    // Pixels without depth are black in both.
+    cv::Mat render_gray;
+    cv::cvtColor(render, render_gray, cv::COLOR_BGR2GRAY);
+    EXPECT_EQ(cv::countNonZero(render_gray & (valid == 0)), 0) << display;
+  }
+}
+
+// Front/back classes of the depth pass: plain splatting marks every valid pixel front; the
+// paper's mode marks each valid pixel front or background-filled.
+TEST_F(ViewCliTest, ClassesDisplay) {
+  const auto out = test::TempDir("view_cli_classes");
+  for (const std::string mode : {"plain", "lechelek"}) {
+    const std::string shot = (out / (mode + ".png")).string();
+    const auto r = View("--hdr ldr --camera s1_v01.jpg --display classes --depth-mode " + mode +
+                        " --screenshot " + shot);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const cv::Mat png = ReadPng(shot);
+    std::vector<cv::Mat> c;
+    cv::split(png, c);
+    const int valid = cv::countNonZero(c[3]);
+    cv::Mat bgr, front, filled;
+    cv::cvtColor(png, bgr, cv::COLOR_BGRA2BGR);
+    cv::inRange(bgr, cv::Scalar(25, 139, 254), cv::Scalar(27, 141, 255), front);   // orange
+    cv::inRange(bgr, cv::Scalar(254, 114, 50), cv::Scalar(255, 116, 52), filled);  // blue
+    const int n_front = cv::countNonZero(front), n_filled = cv::countNonZero(filled);
+    std::printf("classes %s: %d valid, %d front, %d background-filled\n", mode.c_str(), valid,
+                n_front, n_filled);
+    EXPECT_GT(valid, 128 * 96 / 2) << mode;
+    EXPECT_EQ(n_front + n_filled, valid) << mode;
+    EXPECT_GT(n_front, valid / 2) << mode;
+    if (mode == "plain") {
+      EXPECT_EQ(n_filled, 0);
+    }
+  }
+}
+
+// Colour-per-point splats show the scene; the 3D frustums add only lines of their colours.
+TEST_F(ViewCliTest, SplatsAndFrustums) {
+  const auto out = test::TempDir("view_cli_splats");
+  auto r = View("--hdr ldr --camera s1_v01.jpg --display splats --screenshot " +
+                (out / "splats.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const cv::Mat splats = ReadPng(out / "splats.png");
+  std::vector<cv::Mat> c;
+  cv::split(splats, c);
+  EXPECT_GT(cv::countNonZero(c[3]), 128 * 96 / 2);
+  cv::Mat gray;
+  cv::cvtColor(splats, gray, cv::COLOR_BGRA2GRAY);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(gray, mean, stddev, c[3]);
+  EXPECT_GT(mean[0], 10.0);
+  EXPECT_GT(stddev[0], 5.0);
+
+  // The whole window (no panel) with and without frustums, from 1.5 scene scales behind the
+  // first photo: the photos' frustums are in front, between the viewer and the object.
+  const Scene scene = LoadWorkspace(Ws());
+  Rigid3d pose = scene.photos[0].cam_from_world;
+  pose.translation.z() += 1.5 * scene.scene_scale;
+  const Eigen::Quaterniond& q = pose.rotation;
+  char spec[256];
+  std::snprintf(spec, sizeof(spec), "'%.9f %.9f %.9f %.9f %.9f %.9f %.9f'", q.w(), q.x(), q.y(),
+                q.z(), pose.translation.x(), pose.translation.y(), pose.translation.z());
+  for (const std::string f : {"", "--frustums"}) {
+    r = View("--hdr ldr --camera " + std::string(spec) + " --hide-panel " + f +
+             " --frames 3 --window-screenshot " + (out / ("window" + f + ".png")).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const cv::Mat plain = cv::imread((out / "window.png").string());
+  const cv::Mat with = cv::imread((out / "window--frustums.png").string());
+  ASSERT_EQ(plain.size(), with.size());
+  auto lines = [](const cv::Mat& bgr) {  // pixels of the frustum colours (BGR)
+    cv::Mat a, b;
+    cv::inRange(bgr, cv::Scalar(254, 198, 78), cv::Scalar(255, 200, 80), a);
+    cv::inRange(bgr, cv::Scalar(0, 198, 254), cv::Scalar(1, 200, 255), b);
+    return cv::countNonZero(a | b);
+  };
+  std::printf("frustum-coloured pixels: %d with, %d without\n", lines(with), lines(plain));
+  EXPECT_GT(lines(with), 50);
+  EXPECT_LE(lines(plain), 2);
 }
 
 TEST_F(ViewCliTest, BadInputIsOneClearError) {

@@ -1,0 +1,107 @@
+#include "viewer/frustum_pass.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "core/projection.h"
+
+namespace hdribr::viewer {
+
+FrustumLines MakeFrustumLines(const Scene& scene, double depth) {
+  FrustumLines out;
+  for (size_t i = 0; i < scene.photos.size(); ++i) {
+    const Photo& p = scene.photos[i];
+    const Camera& cam = scene.CameraOf(p);
+    const Rigid3d world_from_cam = p.cam_from_world.Inverse();
+    const Eigen::Vector2d px[4] = {{0, 0},
+                                   {double(cam.width), 0},
+                                   {double(cam.width), double(cam.height)},
+                                   {0, double(cam.height)}};
+    Eigen::Vector3f corner[4];
+    for (int c = 0; c < 4; ++c) {
+      // CamFromPixel is the ray with z = 1: scaled to camera z = depth.
+      corner[c] = (world_from_cam * (cam.CamFromPixel(px[c]) * depth)).cast<float>();
+    }
+    const Eigen::Vector3f apex = world_from_cam.translation.cast<float>();
+    for (int c = 0; c < 4; ++c) {
+      for (const Eigen::Vector3f& q : {apex, corner[c], corner[c], corner[(c + 1) % 4]}) {
+        out.points.push_back(q);
+        out.photo.push_back(static_cast<int>(i));
+      }
+    }
+  }
+  return out;
+}
+
+FrustumPass::FrustumPass(const gl::ShaderLibrary& shaders)
+    : program_(shaders.Build({"viewer_frustum.vert", "viewer_frustum.frag"})),
+      vao_(gl::VertexArray::Create()) {}
+
+void FrustumPass::SetLines(const FrustumLines& lines) {
+  HDRIBR_CHECK(lines.points.size() == lines.photo.size() && lines.points.size() % 2 == 0);
+  struct Vertex {
+    float position[3];
+    float photo;
+  };
+  std::vector<Vertex> vertices;
+  vertices.reserve(lines.points.size());
+  for (size_t i = 0; i < lines.points.size(); ++i) {
+    const Eigen::Vector3f& p = lines.points[i];
+    vertices.push_back({{p.x(), p.y(), p.z()}, static_cast<float>(lines.photo[i])});
+  }
+  points_ = lines.points;
+  count_ = vertices.size();
+  vao_ = gl::VertexArray::Create();
+  if (vertices.empty()) {
+    buffer_ = gl::Buffer();
+    return;
+  }
+  buffer_ = gl::Buffer(vertices.size() * sizeof(Vertex), vertices.data());
+  glVertexArrayVertexBuffer(vao_.id(), 0, buffer_.id(), 0, sizeof(Vertex));
+  glEnableVertexArrayAttrib(vao_.id(), 0);
+  glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao_.id(), 0, 0);
+  glEnableVertexArrayAttrib(vao_.id(), 1);
+  glVertexArrayAttribFormat(vao_.id(), 1, 1, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
+  glVertexArrayAttribBinding(vao_.id(), 1, 0);
+}
+
+void FrustumPass::Draw(const Camera& camera, const Rigid3d& cam_from_world,
+                       const gl::Texture& scene_depth, const gl::Framebuffer& fb, int highlight,
+                       float tolerance) {
+  if (count_ == 0) return;
+  HDRIBR_CHECK(scene_depth.format() == GL_R32F);
+  const int w = scene_depth.width(), h = scene_depth.height();
+  const Camera cam = (camera.width == w && camera.height == h) ? camera : camera.Scaled(w, h);
+  // Clip range: the farthest line vertex; near small against it (GL clips segments crossing
+  // the near plane, so lines through the viewpoint stay correct).
+  const Eigen::Matrix4f cfw = cam_from_world.Matrix4().cast<float>();
+  float zmax = 0;
+  for (const Eigen::Vector3f& p : points_) {
+    zmax = std::max(zmax, (cfw * p.homogeneous()).z());
+  }
+  if (!(zmax > 0)) return;  // every line behind the camera
+  const float far = zmax * 1.01f;
+  const Eigen::Matrix4f clip_from_cam = ClipFromCam(cam, far * 1e-4f, far);
+  const GLuint p = program_.id();
+  glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, cfw.data());
+  glProgramUniformMatrix4fv(p, 1, 1, GL_FALSE, clip_from_cam.data());
+  glProgramUniform1f(p, 2, tolerance);
+  glProgramUniform1i(p, 3, highlight);
+  glProgramUniform4fv(p, 4, 1, colour.data());
+  glProgramUniform4fv(p, 5, 1, highlight_colour.data());
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  fb.Bind(w, h);
+  program_.Use();
+  glBindTextureUnit(0, scene_depth.id());
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(count_));
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace hdribr::viewer
