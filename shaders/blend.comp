@@ -175,7 +175,8 @@ void main() {
     }
     if (ulr && n_best > 0) {
       // Threshold: the (K+1)-th penalty, or the paper's cosine horizon when fewer photos see P.
-      float t = n_best > k ? -best_key[k] : kHalfPi;
+      // (floored: K + 1 photos from exactly the view's direction would give 0 / 0).
+      float t = max(n_best > k ? -best_key[k] : kHalfPi, 1e-4);
       n_best = min(n_best, k);
       for (int j = 0; j < n_best; ++j) {
         float p = -best_key[j];

@@ -14,6 +14,10 @@
 
 namespace hdribr::test {
 
+// Size of the photos of WriteSmallCapture.
+inline constexpr int kSmallCaptureWidth = 128;
+inline constexpr int kSmallCaptureHeight = 96;
+
 // A 128x96 capture of `series` exposure series x 4 views and one novel view, in a fresh
 // TempDir(tag); returns its folder (the workspace is <folder>/workspace).
 inline std::filesystem::path WriteSmallCapture(const std::string& tag, int series) {
@@ -21,8 +25,8 @@ inline std::filesystem::path WriteSmallCapture(const std::string& tag, int serie
   synth::CaptureOptions opt;
   opt.series = series;
   opt.views = 4;
-  opt.width = 128;
-  opt.height = 96;
+  opt.width = kSmallCaptureWidth;
+  opt.height = kSmallCaptureHeight;
   opt.novel_views = 1;
   opt.threads = 2;
   synth::WriteCapture(opt, dir);

@@ -49,7 +49,7 @@ enum class PhotoEncoding {
 struct BlendOptions {
   BlendMode mode = BlendMode::kBlend;
   PhotoEncoding encoding = PhotoEncoding::kDisplay;
-  // Unstructured Lumigraph by default (1.1 dB closer than eq. 5 in leave-one-out on the
+  // Unstructured Lumigraph by default (1.7 dB closer than eq. 5 in leave-one-out on the
   // default capture, docs/benchmarks.md); kPaper is the paper's blending exactly.
   BlendWeights weights = BlendWeights::kUnstructured;
   int k_best = 0;        // 0 = all photos for kPaper (the paper), kDefaultUnstructuredK for ULR

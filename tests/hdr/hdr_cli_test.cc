@@ -26,7 +26,7 @@ TEST(HdrCli, BuildsTheSetAndRendersTheThreeModes) {
   const render::HdrPhotoSet set = render::ReadHdrPhotoSet(ws);
   ASSERT_EQ(set.views.size(), 4u);
   const cv::Mat radiance = ReadExr(set.folder / set.views[0].radiance_file);
-  EXPECT_EQ(radiance.size(), cv::Size(120, 90));
+  EXPECT_EQ(radiance.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
   EXPECT_TRUE(cv::checkRange(radiance));
   EXPECT_TRUE(fs::exists(set.folder / set.views[0].mask_files[1]));
 
@@ -37,7 +37,7 @@ TEST(HdrCli, BuildsTheSetAndRendersTheThreeModes) {
                          " --hdr-mode " + mode + " --exposure 0.5 --out " + png.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const cv::Mat img = ReadImage(png);
-    EXPECT_EQ(img.size(), cv::Size(120, 90));
+    EXPECT_EQ(img.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
     EXPECT_GT(cv::mean(img)[1], 20) << mode;  // tone-mapped, not black
   }
   const fs::path exr = out / "direct.exr";

@@ -24,14 +24,14 @@ TEST_F(RenderCliTest, PngAndExrOfAPhotoView) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("valid"), std::string::npos) << r.output;
   const cv::Mat png = ReadImage(out / "a.png");
-  ASSERT_EQ(png.size(), cv::Size(128, 96));
+  ASSERT_EQ(png.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
   const cv::Mat photo = ReadImage(Dir() / "workspace" / "images" / "s0_v01.jpg");
   // Left out of its own view, the photo is still reproduced: mean absolute error over the
   // non-black pixels (invalid pixels are written as 0).
   cv::Mat gray;
   cv::cvtColor(png, gray, cv::COLOR_BGR2GRAY);
   const cv::Mat mask = gray > 0;
-  ASSERT_GT(cv::countNonZero(mask), 128 * 96 / 2);
+  ASSERT_GT(cv::countNonZero(mask), test::kSmallCaptureWidth * test::kSmallCaptureHeight / 2);
   cv::Mat diff;
   cv::absdiff(png, photo, diff);
   const cv::Scalar mad = cv::mean(diff, mask);

@@ -77,11 +77,11 @@ TEST_F(ViewCliTest, ScreenshotMatchesOfflineRender) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const cv::Mat view = ReadPng(out / "view.png");
   const cv::Mat render = ReadPng(out / "render.png");
-  ASSERT_EQ(view.size(), cv::Size(128, 96));
+  ASSERT_EQ(view.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
   const Comparison c = Compare(view, render);
   std::printf("viewer vs render: %d valid pixels, validity mismatch %.5f, MAD %.3f, max %.0f\n",
               c.valid, c.validity_mismatch, c.mad, c.max_diff);
-  EXPECT_GT(c.valid, 128 * 96 / 2);
+  EXPECT_GT(c.valid, test::kSmallCaptureWidth * test::kSmallCaptureHeight / 2);
   EXPECT_LT(c.validity_mismatch, 0.001);
   EXPECT_LT(c.mad, 0.5);       // 8-bit levels: rounding only
   EXPECT_LE(c.max_diff, 2.0);  // float -> unorm conversion on the GPU vs cv::saturate_cast
@@ -93,7 +93,7 @@ TEST_F(ViewCliTest, ScreenshotMatchesOfflineRender) {
   EXPECT_GT(other.mad + 100 * other.validity_mismatch, 2.0);
   // The linear EXR next to it holds the blended values.
   const cv::Mat exr = ReadExr(out / "view.exr");
-  ASSERT_EQ(exr.size(), cv::Size(128, 96));
+  ASSERT_EQ(exr.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
 }
 
 TEST_F(ViewCliTest, ExposureChangesOnlyTheToneMappedPicture) {
@@ -164,7 +164,8 @@ TEST_F(ViewCliTest, DebugDisplaysMatchRenderDebugMaps) {
     std::vector<cv::Mat> c;
     cv::split(view, c);
     const cv::Mat valid = c[3] > 0;
-    EXPECT_GT(cv::countNonZero(valid), 128 * 96 / 2) << display;
+    EXPECT_GT(cv::countNonZero(valid), test::kSmallCaptureWidth * test::kSmallCaptureHeight / 2)
+        << display;
     cv::Mat bgr, diff, gray;
     cv::cvtColor(view, bgr, cv::COLOR_BGRA2BGR);
     cv::absdiff(bgr, render, diff);
@@ -201,7 +202,7 @@ TEST_F(ViewCliTest, ClassesDisplay) {
     const int n_front = cv::countNonZero(front), n_filled = cv::countNonZero(filled);
     std::printf("classes %s: %d valid, %d front, %d background-filled\n", mode.c_str(), valid,
                 n_front, n_filled);
-    EXPECT_GT(valid, 128 * 96 / 2) << mode;
+    EXPECT_GT(valid, test::kSmallCaptureWidth * test::kSmallCaptureHeight / 2) << mode;
     EXPECT_EQ(n_front + n_filled, valid) << mode;
     EXPECT_GT(n_front, valid / 2) << mode;
     if (mode == "plain") {
@@ -219,7 +220,7 @@ TEST_F(ViewCliTest, SplatsAndFrustums) {
   const cv::Mat splats = ReadPng(out / "splats.png");
   std::vector<cv::Mat> c;
   cv::split(splats, c);
-  EXPECT_GT(cv::countNonZero(c[3]), 128 * 96 / 2);
+  EXPECT_GT(cv::countNonZero(c[3]), test::kSmallCaptureWidth * test::kSmallCaptureHeight / 2);
   cv::Mat gray;
   cv::cvtColor(splats, gray, cv::COLOR_BGRA2GRAY);
   cv::Scalar mean, stddev;
