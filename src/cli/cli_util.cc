@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/atomic_file.h"
 
 namespace hdribr::cli {
 
@@ -25,6 +26,14 @@ std::vector<std::string> SplitList(const std::string& text) {
     if (!item.empty()) out.push_back(item);
   }
   return out;
+}
+
+void EmitJson(const std::string& path, const nlohmann::json& doc) {
+  if (path.empty()) {
+    std::printf("%s\n", doc.dump(2).c_str());
+  } else {
+    WriteFileAtomic(path, doc.dump(2) + "\n");
+  }
 }
 
 }  // namespace hdribr::cli

@@ -1,10 +1,10 @@
-// Small parsers shared by the subcommands.
+// Small parsers and output helpers shared by the subcommands.
 #pragma once
 
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace hdribr::cli {
 
@@ -14,5 +14,9 @@ cv::Size ParseSize(const std::string& text, const std::string& option = "--size"
 
 // Items of a comma-separated list, empty items dropped ("a,,b" -> {"a", "b"}).
 std::vector<std::string> SplitList(const std::string& text);
+
+// A benchmark's JSON: printed to stdout (2-space indent) when `path` is empty, else written
+// there atomically.
+void EmitJson(const std::string& path, const nlohmann::json& doc);
 
 }  // namespace hdribr::cli

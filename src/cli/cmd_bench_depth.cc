@@ -17,7 +17,6 @@
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
-#include "io/atomic_file.h"
 #include "render/depth_pass.h"
 
 namespace hdribr::cli {
@@ -159,11 +158,7 @@ int Run(const BenchDepthOptions& opt) {
                  r["width"].get<int>(), r["height"].get<int>(), r["points"].get<size_t>(),
                  r["wall_ratio"].get<double>(), r["gpu_ratio"].get<double>());
   }
-  if (opt.json.empty()) {
-    std::printf("%s\n", doc.dump(2).c_str());
-  } else {
-    WriteFileAtomic(opt.json, doc.dump(2) + "\n");
-  }
+  EmitJson(opt.json, doc);
   return 0;
 }
 

@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "hdr/radiance_compare.h"
-#include "io/atomic_file.h"
 #include "io/colmap_model.h"
 #include "io/exr.h"
 #include "io/workspace.h"
@@ -119,11 +119,7 @@ int Run(const BenchHdrOptions& opt) {
                       {"set_views", set.images.size()},
                       {"repeats", opt.repeats},
                       {"modes", modes}};
-  if (opt.json_path.empty()) {
-    std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    WriteFileAtomic(opt.json_path, j.dump(2) + "\n");
-  }
+  EmitJson(opt.json_path, j);
   return 0;
 }
 

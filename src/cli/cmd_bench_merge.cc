@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "hdr/debevec.h"
 #include "hdr/opencv_reference.h"
 #include "hdr/radiance_compare.h"
-#include "io/atomic_file.h"
 #include "io/image.h"
 
 namespace hdribr::cli {
@@ -142,11 +142,7 @@ int Run(const BenchMergeOptions& opt) {
       Median(cv_cal), Median(cv_merge), Median(cv_total));
   std::fprintf(table, "OpenCV / hdribr time: %.1fx; radiance median |log ratio| %.4f\n",
                Median(cv_total) / Median(ours_total), agreement);
-  if (opt.json_path.empty()) {
-    std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    WriteFileAtomic(opt.json_path, j.dump(2) + "\n");
-  }
+  EmitJson(opt.json_path, j);
   return 0;
 }
 

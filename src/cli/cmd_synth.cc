@@ -12,7 +12,6 @@
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
-#include "io/atomic_file.h"
 #include "io/image.h"
 #include "synth/capture.h"
 
@@ -88,11 +87,7 @@ int RunBench(BenchSynthOptions opt) {
                       {"runs", runs},
                       {"best_render_s", best_render},
                       {"best_total_s", best_total}};
-  if (opt.json.empty()) {
-    std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    WriteFileAtomic(opt.json, j.dump(2) + "\n");
-  }
+  EmitJson(opt.json, j);
   std::printf("%-8s %-9s %6s %6s %7s %10s %9s\n", "scene", "size", "series", "views", "threads",
               "render s", "total s");
   std::printf("%-8s %-9s %6d %6d %7u %10.2f %9.2f\n", opt.capture.scene.c_str(), opt.size.c_str(),

@@ -77,13 +77,11 @@ cv::Mat ReadExr(const fs::path& path) {
   }
 }
 
-void WriteExr(const fs::path& path, const cv::Mat& image, ExrPixel pixel,
-              const std::string& single_channel_name) {
-  if (image.empty() || (image.type() != CV_32FC3 && image.type() != CV_32FC1)) {
-    throw UsageError("WriteExr: " + path.string() +
-                     ": image must be non-empty CV_32FC3 or CV_32FC1");
-  }
-  if (single_channel_name.empty()) throw UsageError("WriteExr: empty channel name");
+namespace {
+
+// Writes the interleaved CV_32F channels of `src` under `names` (one per channel), atomically.
+void WriteChannels(const fs::path& path, const cv::Mat& image,
+                   const std::vector<std::string>& names, ExrPixel pixel) {
   const cv::Mat src = image.isContinuous() ? image : image.clone();
   const int nc = src.channels();
   const Imf::PixelType type = pixel == ExrPixel::kHalf ? Imf::HALF : Imf::FLOAT;
@@ -105,15 +103,9 @@ void WriteExr(const fs::path& path, const cv::Mat& image, ExrPixel pixel,
     const size_t xs = elem * nc;
     const size_t ys = xs * static_cast<size_t>(src.cols);
     Imf::FrameBuffer fb;
-    if (nc == 3) {
-      const char* names[3] = {"B", "G", "R"};  // BGR in memory
-      for (int c = 0; c < 3; ++c) {
-        header.channels().insert(names[c], Imf::Channel(type));
-        fb.insert(names[c], Imf::Slice(type, data + c * elem, xs, ys));
-      }
-    } else {
-      header.channels().insert(single_channel_name, Imf::Channel(type));
-      fb.insert(single_channel_name, Imf::Slice(type, data, xs, ys));
+    for (int c = 0; c < nc; ++c) {
+      header.channels().insert(names[static_cast<size_t>(c)], Imf::Channel(type));
+      fb.insert(names[static_cast<size_t>(c)], Imf::Slice(type, data + c * elem, xs, ys));
     }
     {
       Imf::OutputFile out(file.temp_path().c_str(), header);
@@ -124,6 +116,64 @@ void WriteExr(const fs::path& path, const cv::Mat& image, ExrPixel pixel,
     throw InputError(path, std::string("cannot write EXR (") + e.what() + ")");
   }
   file.Commit();
+}
+
+}  // namespace
+
+void WriteExr(const fs::path& path, const cv::Mat& image, ExrPixel pixel,
+              const std::string& single_channel_name) {
+  if (image.empty() || (image.type() != CV_32FC3 && image.type() != CV_32FC1)) {
+    throw UsageError("WriteExr: " + path.string() +
+                     ": image must be non-empty CV_32FC3 or CV_32FC1");
+  }
+  if (single_channel_name.empty()) throw UsageError("WriteExr: empty channel name");
+  if (image.channels() == 3) {
+    WriteChannels(path, image, {"B", "G", "R"}, pixel);  // BGR in memory
+  } else {
+    WriteChannels(path, image, {single_channel_name}, pixel);
+  }
+}
+
+void WriteExrWithMask(const fs::path& path, const cv::Mat& image, const cv::Mat& mask,
+                      const std::string& mask_name, ExrPixel pixel) {
+  if (image.empty() || image.type() != CV_32FC3 || mask.type() != CV_8UC1 ||
+      mask.size() != image.size() || mask_name.empty()) {
+    throw UsageError("WriteExrWithMask: " + path.string() +
+                     ": needs CV_32FC3, a CV_8UC1 mask of the same size and a channel name");
+  }
+  const cv::Mat nonzero = mask != 0;  // 255 / 0
+  cv::Mat mask01;
+  nonzero.convertTo(mask01, CV_32F, 1.0 / 255.0);
+  cv::Mat bgra;
+  cv::merge(std::vector<cv::Mat>{image, mask01}, bgra);
+  WriteChannels(path, bgra, {"B", "G", "R", mask_name}, pixel);
+}
+
+cv::Mat ReadExrMask(const fs::path& path, const std::string& mask_name, cv::Size size) {
+  cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
+  try {
+    Imf::InputFile file(path.c_str());
+    if (!file.header().channels().findChannel(mask_name)) return mask;
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    if (w != size.width || h != size.height) throw InputError(path, "inconsistent size");
+    std::vector<float> v(static_cast<size_t>(w) * h);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(v.data()) -
+                 (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * w) *
+                     static_cast<ptrdiff_t>(sizeof(float));
+    fb.insert(mask_name, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * w));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) mask.at<uint8_t>(y, x) = v[y * w + x] > 0.5f ? 255 : 0;
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path, "cannot read the '" + mask_name + "' channel: " + e.what());
+  }
+  return mask;
 }
 
 }  // namespace hdribr

@@ -1,11 +1,5 @@
 #include "render/hdr_photo_set.h"
 
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfInputFile.h>
-#include <ImfOutputFile.h>
-#include <half.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -34,69 +28,6 @@ std::string SafeStem(const std::string& name) {
     if (c == '/' || c == '\\' || c == ' ' || c == ':') c = '_';
   }
   return stem.empty() ? "view" : stem;
-}
-
-// EXR with half R, G, B (linear radiance) and a half "valid" channel (1 valid, 0 not).
-void WriteRadianceExr(const fs::path& path, const cv::Mat& radiance, const cv::Mat& valid) {
-  HDRIBR_CHECK(radiance.type() == CV_32FC3 && valid.type() == CV_8UC1);
-  const int w = radiance.cols, h = radiance.rows;
-  std::vector<half> r(w * h), g(w * h), b(w * h), v(w * h);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const cv::Vec3f p = radiance.at<cv::Vec3f>(y, x);
-      const size_t i = static_cast<size_t>(y) * w + x;
-      b[i] = half(p[0]);
-      g[i] = half(p[1]);
-      r[i] = half(p[2]);
-      v[i] = half(valid.at<uint8_t>(y, x) ? 1.0f : 0.0f);
-    }
-  }
-  AtomicFile file(path);
-  try {
-    Imf::Header header(w, h);
-    for (const char* c : {"R", "G", "B", "valid"})
-      header.channels().insert(c, Imf::Channel(Imf::HALF));
-    Imf::FrameBuffer fb;
-    const size_t xs = sizeof(half), ys = sizeof(half) * w;
-    fb.insert("R", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(r.data()), xs, ys));
-    fb.insert("G", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(g.data()), xs, ys));
-    fb.insert("B", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(b.data()), xs, ys));
-    fb.insert("valid", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(v.data()), xs, ys));
-    Imf::OutputFile out(file.temp_path().c_str(), header);
-    out.setFrameBuffer(fb);
-    out.writePixels(h);
-  } catch (const std::exception& e) {
-    throw InputError(path, std::string("cannot write EXR: ") + e.what());
-  }
-  file.Commit();
-}
-
-// The "valid" channel of a radiance EXR as CV_8UC1 (255 valid); all valid when absent.
-cv::Mat ReadValidChannel(const fs::path& path, cv::Size size) {
-  cv::Mat valid(size, CV_8UC1, cv::Scalar(255));
-  try {
-    Imf::InputFile file(path.c_str());
-    if (!file.header().channels().findChannel("valid")) return valid;
-    const Imath::Box2i dw = file.header().dataWindow();
-    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-    if (w != size.width || h != size.height) throw InputError(path, "inconsistent size");
-    std::vector<float> v(static_cast<size_t>(w) * h);
-    Imf::FrameBuffer fb;
-    char* base = reinterpret_cast<char*>(v.data()) -
-                 (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * w) *
-                     static_cast<ptrdiff_t>(sizeof(float));
-    fb.insert("valid", Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * w));
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) valid.at<uint8_t>(y, x) = v[y * w + x] > 0.5f ? 255 : 0;
-    }
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError(path, std::string("cannot read the validity channel: ") + e.what());
-  }
-  return valid;
 }
 
 json ViewToJson(const HdrSetView& v) {
@@ -298,7 +229,7 @@ HdrPhotoSet WriteHdrPhotoSet(HdrPhotoSet set, const std::vector<ExposureStack>& 
     cv::min(radiance, 65504.0, radiance);  // half's largest finite value
     hv.radiance_file = "radiance/" + stem + ".exr";
     fs::create_directories(set.folder / "radiance");
-    WriteRadianceExr(set.folder / hv.radiance_file, radiance, valid);
+    WriteExrWithMask(set.folder / hv.radiance_file, radiance, valid, "valid", ExrPixel::kHalf);
     hv.valid_fraction = static_cast<double>(cv::countNonZero(valid)) / valid.total();
     hv.aligned_files.clear();
     hv.mask_files.clear();
@@ -388,7 +319,7 @@ LoadedHdrPhotoSet LoadHdrPhotoSet(const Scene& scene, const fs::path& folder) {
       throw InputError(file, "size differs from the set index");
     }
     cv::patchNaNs(radiance, 0.0);
-    cv::Mat valid = ReadValidChannel(file, radiance.size());
+    cv::Mat valid = ReadExrMask(file, "valid", radiance.size());
     Camera camera = v.view.camera;
     camera.id = next_camera_id++;
     out.scene.cameras[camera.id] = camera;
