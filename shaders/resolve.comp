@@ -6,16 +6,27 @@
 //                      step-1 splats; foreground pull-push where valid, background filling
 //                      the foreground's holes, the step-1 splat depth (and a view-facing
 //                      normal: step 1 writes no normal in this mode) as a last resort. The
-//                      last push of the background pyramid (level 1 to 0) is done here, only
-//                      for the pixels that need it (u_push_back), not over the whole image.
+//                      last push of the background pyramid (level 1 to 0) is needed only at
+//                      the pixels of foreground holes (u_push_back): they are appended to a
+//                      list, and MODE 3 pushes them.
+//  MODE 3 (lechelek holes): one invocation per listed pixel (an indirect dispatch sized by
+//                      MODE 2), the background's last push there; where it gives a texel, it
+//                      replaces MODE 2's last-resort output. A separate pass because a CPU
+//                      rasteriser (llvmpipe) runs both sides of a branch for a whole SIMD
+//                      vector: inline, the rarely needed push cost every pixel.
+#if MODE == 3
+layout(local_size_x = 64) in;  // kHoleGroupSize
+#else
 layout(local_size_x = 8, local_size_y = 8) in;
+#endif
 #include "pullpush.glsl"
+#include "splat_depth.glsl"
 
 #ifndef MODE
 #define MODE 2
 #endif
 
-layout(binding = 0) uniform sampler2D u_splat_depth;
+layout(binding = 0) uniform usampler2D u_splat_depth;  // splat_depth.glsl
 layout(binding = 1) uniform sampler2D u_splat_normal;  // w = coverage (plain only)
 layout(binding = 2) uniform sampler2D u_front_a;
 layout(binding = 3) uniform sampler2D u_front_b;
@@ -31,9 +42,45 @@ layout(binding = 2, r8) writeonly uniform image2D u_out_valid;
 // Pixel class (render::DepthClass): 0 invalid, 1 front, 2 background filling a foreground hole.
 layout(binding = 3, r8ui) writeonly uniform uimage2D u_out_class;
 
+#if MODE >= 2
+// Pixels of foreground holes (x | y << 16) and the indirect dispatch arguments of MODE 3
+// (render/depth_pass.cc resets them to (0, 1, 1) and count 0 every frame).
+layout(std430, binding = 0) buffer Holes {
+  uint h_groups_x;
+  uint h_groups_y;
+  uint h_groups_z;
+  uint h_count;
+  uint h_pixels[];
+};
+const uint kHoleGroupSize = 64u;  // local_size_x of MODE 3
+const uint kMaxGroups = 65535u;
+#endif
+
 // Depth of a pull-push texel at pixel px: its tangent plane, within its depth interval.
 float TexelDepth(Texel t, vec2 px) { return PlaneDepth(t.a.xyz, t.b.xyz, px, DepthHalfWidth(t)); }
 
+#if MODE == 3
+void main() {
+  // Grid-stride loop: the dispatch is capped at kMaxGroups groups.
+  uint stride = gl_NumWorkGroups.x * kHoleGroupSize;
+  for (uint k = gl_GlobalInvocationID.x; k < h_count; k += stride) {
+    ivec2 p = ivec2(h_pixels[k] & 0xFFFFu, h_pixels[k] >> 16);
+    ivec2 base = PushBase(p);
+    ivec2 coarse_size = textureSize(u_back1_a, 0);
+    Texel t[4];
+    for (int i = 0; i < 4; ++i) {
+      ivec2 c = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), coarse_size - 1);
+      t[i].a = texelFetch(u_back1_a, c, 0);
+      t[i].b = texelFetch(u_back1_b, c, 0);
+    }
+    Texel back = PushAverage(t, p, 1.0);
+    if (!Valid(back)) continue;
+    imageStore(u_out_depth, p, vec4(TexelDepth(back, vec2(p) + 0.5)));
+    imageStore(u_out_normal, p, vec4(normalize(back.b.xyz), 0.0));
+    imageStore(u_out_class, p, uvec4(2u));
+  }
+}
+#else
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, ivec2(u_size)))) return;
@@ -41,7 +88,7 @@ void main() {
   float depth = 0.0;
   vec3 normal = vec3(0.0);
   uint cls = 1u;  // front unless the background fills the pixel (step 5)
-  float splat_depth = texelFetch(u_splat_depth, p, 0).r;
+  float splat_depth = DecodeSplatDepth(texelFetch(u_splat_depth, p, 0).r);
 #if MODE == 0
   vec4 splat_normal = texelFetch(u_splat_normal, p, 0);
   if (splat_normal.w > 0.0) {
@@ -63,15 +110,11 @@ void main() {
   back.b = texelFetch(u_back_b, p, 0);
   if (splat_depth > 0.0) {
     if (!Valid(front) && !Valid(back) && u_push_back != 0) {
-      ivec2 base = PushBase(p);
-      ivec2 coarse_size = textureSize(u_back1_a, 0);
-      Texel t[4];
-      for (int i = 0; i < 4; ++i) {
-        ivec2 c = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), coarse_size - 1);
-        t[i].a = texelFetch(u_back1_a, c, 0);
-        t[i].b = texelFetch(u_back1_b, c, 0);
+      uint k = atomicAdd(h_count, 1u);
+      if (k % kHoleGroupSize == 0u && k / kHoleGroupSize < kMaxGroups) {
+        atomicAdd(h_groups_x, 1u);
       }
-      back = PushAverage(t, p, 1.0);
+      h_pixels[k] = uint(p.x) | uint(p.y) << 16;
     }
     if (Valid(front)) {
       depth = TexelDepth(front, px);
@@ -93,3 +136,4 @@ void main() {
   imageStore(u_out_valid, p, vec4(valid ? 1.0 : 0.0));
   imageStore(u_out_class, p, uvec4(valid ? cls : 0u));
 }
+#endif

@@ -26,6 +26,7 @@ struct BenchDepthOptions {
   std::string sizes = "512x512,1920x1080";
   std::string points = "100000,1000000,4000000";
   std::string modes = "plain,marroquim,lechelek";
+  std::string rasters = "compute,pipeline";
   int frames = 3;
   std::string json;
 };
@@ -49,6 +50,8 @@ int Run(const BenchDepthOptions& opt) {
   }
   std::vector<render::DepthMode> modes;
   for (const auto& s : SplitList(opt.modes)) modes.push_back(render::ParseDepthMode(s));
+  std::vector<render::PointRaster> rasters;
+  for (const auto& s : SplitList(opt.rasters)) rasters.push_back(render::ParsePointRaster(s));
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
@@ -62,65 +65,70 @@ int Run(const BenchDepthOptions& opt) {
       const double f = 0.5 * w / std::tan(M_PI / 6.0);
       const Camera cam = Camera::Pinhole(1, w, h, f, f, 0.5 * w, 0.5 * h);
       render::DepthTarget target = render::DepthTarget::Create(w, h);
-      for (render::DepthMode mode : modes) {
-        pass.options().mode = mode;
-        // Warm-up (allocation, shader compilation of the driver), then wall time per frame
-        // without queries, then per-step GPU times with queries.
-        pass.options().profile = false;
-        pass.Process(cam, cam_from_world, target);
-        glFinish();
-        const auto t0 = std::chrono::steady_clock::now();
-        for (int i = 0; i < opt.frames; ++i) pass.Process(cam, cam_from_world, target);
-        glFinish();
-        const double wall_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count() /
-            opt.frames;
-        pass.options().profile = true;
-        render::DepthStepTimes sum;
-        for (int i = 0; i < opt.frames; ++i) {
+      for (render::PointRaster raster : rasters)
+        for (render::DepthMode mode : modes) {
+          pass.options().mode = mode;
+          pass.options().raster = raster;
+          // Warm-up (allocation, shader compilation of the driver), then wall time per frame
+          // without queries, then per-step GPU times with queries.
+          pass.options().profile = false;
           pass.Process(cam, cam_from_world, target);
-          const auto& t = pass.last_times();
-          for (int k = 0; k < render::DepthStepTimes::kSteps; ++k) {
-            sum.gpu_ms[k] += t.gpu_ms[k] / opt.frames;
-            sum.wall_ms[k] += t.wall_ms[k] / opt.frames;
+          glFinish();
+          const auto t0 = std::chrono::steady_clock::now();
+          for (int i = 0; i < opt.frames; ++i) pass.Process(cam, cam_from_world, target);
+          glFinish();
+          const double wall_ms =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                  .count() /
+              opt.frames;
+          pass.options().profile = true;
+          render::DepthStepTimes sum;
+          for (int i = 0; i < opt.frames; ++i) {
+            pass.Process(cam, cam_from_world, target);
+            const auto& t = pass.last_times();
+            for (int k = 0; k < render::DepthStepTimes::kSteps; ++k) {
+              sum.gpu_ms[k] += t.gpu_ms[k] / opt.frames;
+              sum.wall_ms[k] += t.wall_ms[k] / opt.frames;
+            }
           }
+          pass.options().profile = false;
+          nlohmann::json gpu, step_wall;
+          for (int k = 0; k < render::DepthStepTimes::kSteps; ++k) {
+            gpu[render::DepthStepTimes::kNames[k]] = sum.gpu_ms[k];
+            step_wall[render::DepthStepTimes::kNames[k]] = sum.wall_ms[k];
+          }
+          gpu["total"] = sum.gpu_total_ms();
+          step_wall["total"] = sum.wall_total_ms();
+          nlohmann::json r = {
+              {"mode", render::DepthModeName(mode)},
+              {"raster", render::PointRasterName(raster)},
+              {"width", w},
+              {"height", h},
+              {"points", n},
+              {"frames", opt.frames},
+              {"wall_ms", wall_ms},
+              {"gpu_ms", gpu},
+              {"step_wall_ms", step_wall},
+              {"points_per_s", n / (wall_ms * 1e-3)},
+          };
+          if (sum.gpu_ms[0] > 0) r["splat_points_per_s_gpu"] = n / (sum.gpu_ms[0] * 1e-3);
+          if (sum.wall_ms[0] > 0) r["splat_points_per_s_wall"] = n / (sum.wall_ms[0] * 1e-3);
+          results.push_back(r);
+          spdlog::info("{} ({} raster) {}x{} {} points: {:.1f} ms/frame",
+                       render::DepthModeName(mode), render::PointRasterName(raster), w, h, n,
+                       wall_ms);
         }
-        pass.options().profile = false;
-        nlohmann::json gpu, step_wall;
-        for (int k = 0; k < render::DepthStepTimes::kSteps; ++k) {
-          gpu[render::DepthStepTimes::kNames[k]] = sum.gpu_ms[k];
-          step_wall[render::DepthStepTimes::kNames[k]] = sum.wall_ms[k];
-        }
-        gpu["total"] = sum.gpu_total_ms();
-        step_wall["total"] = sum.wall_total_ms();
-        nlohmann::json r = {
-            {"mode", render::DepthModeName(mode)},
-            {"width", w},
-            {"height", h},
-            {"points", n},
-            {"frames", opt.frames},
-            {"wall_ms", wall_ms},
-            {"gpu_ms", gpu},
-            {"step_wall_ms", step_wall},
-            {"points_per_s", n / (wall_ms * 1e-3)},
-        };
-        if (sum.gpu_ms[0] > 0) r["splat_points_per_s_gpu"] = n / (sum.gpu_ms[0] * 1e-3);
-        if (sum.wall_ms[0] > 0) r["splat_points_per_s_wall"] = n / (sum.wall_ms[0] * 1e-3);
-        results.push_back(r);
-        spdlog::info("{} {}x{} {} points: {:.1f} ms/frame", render::DepthModeName(mode), w, h, n,
-                     wall_ms);
-      }
     }
   }
-  // lechelek / marroquim wall-time ratio per size and cloud.
+  // lechelek / marroquim wall-time ratio per raster, size and cloud.
   nlohmann::json ratios = nlohmann::json::array();
   for (const auto& a : results) {
     if (a["mode"] != "lechelek") continue;
     for (const auto& b : results) {
-      if (b["mode"] == "marroquim" && b["width"] == a["width"] && b["height"] == a["height"] &&
-          b["points"] == a["points"]) {
-        ratios.push_back({{"width", a["width"]},
+      if (b["mode"] == "marroquim" && b["raster"] == a["raster"] && b["width"] == a["width"] &&
+          b["height"] == a["height"] && b["points"] == a["points"]) {
+        ratios.push_back({{"raster", a["raster"]},
+                          {"width", a["width"]},
                           {"height", a["height"]},
                           {"points", a["points"]},
                           {"wall_ratio", a["wall_ms"].get<double>() / b["wall_ms"].get<double>()},
@@ -140,23 +148,25 @@ int Run(const BenchDepthOptions& opt) {
   std::fprintf(table, "depth pass on %s\n", context.Renderer().c_str());
   std::fprintf(table,
                "steps: wall ms with a glFinish after each step; gpu ms: timestamp queries\n");
-  std::fprintf(table, "%-9s %9s %8s | %8s %8s %8s %8s %8s | %9s %8s %10s\n", "mode", "size",
-               "points", "splat", "project", "pullpush", "resolve", "gpu ms", "wall ms", "fps",
-               "Mpoints/s");
+  std::fprintf(table, "%-9s %-8s %9s %8s | %8s %8s %8s %8s %8s | %9s %8s %10s\n", "mode", "raster",
+               "size", "points", "splat", "project", "pullpush", "resolve", "gpu ms", "wall ms",
+               "fps", "Mpoints/s");
   for (const auto& r : results) {
     const std::string size =
         std::to_string(r["width"].get<int>()) + "x" + std::to_string(r["height"].get<int>());
     const auto& g = r["step_wall_ms"];
-    std::fprintf(table, "%-9s %9s %8zu | %8.1f %8.1f %8.1f %8.1f %8.1f | %9.1f %8.2f %10.2f\n",
-                 r["mode"].get<std::string>().c_str(), size.c_str(), r["points"].get<size_t>(),
-                 g["splat"].get<double>(), g["project"].get<double>(), g["pullpush"].get<double>(),
+    std::fprintf(table, "%-9s %-8s %9s %8zu | %8.1f %8.1f %8.1f %8.1f %8.1f | %9.1f %8.2f %10.2f\n",
+                 r["mode"].get<std::string>().c_str(), r["raster"].get<std::string>().c_str(),
+                 size.c_str(), r["points"].get<size_t>(), g["splat"].get<double>(),
+                 g["project"].get<double>(), g["pullpush"].get<double>(),
                  g["resolve"].get<double>(), g["total"].get<double>(), r["wall_ms"].get<double>(),
                  1000.0 / r["wall_ms"].get<double>(), r["points_per_s"].get<double>() * 1e-6);
   }
   for (const auto& r : ratios) {
-    std::fprintf(table, "lechelek/marroquim %dx%d %zu points: wall %.2fx, gpu %.2fx\n",
-                 r["width"].get<int>(), r["height"].get<int>(), r["points"].get<size_t>(),
-                 r["wall_ratio"].get<double>(), r["gpu_ratio"].get<double>());
+    std::fprintf(table, "lechelek/marroquim (%s raster) %dx%d %zu points: wall %.2fx, gpu %.2fx\n",
+                 r["raster"].get<std::string>().c_str(), r["width"].get<int>(),
+                 r["height"].get<int>(), r["points"].get<size_t>(), r["wall_ratio"].get<double>(),
+                 r["gpu_ratio"].get<double>());
   }
   EmitJson(opt.json, doc);
   return 0;
@@ -167,6 +177,8 @@ CommandRunner SetupBenchDepth(CLI::App& sub) {
   sub.add_option("--sizes", opt->sizes, "Comma-separated WxH")->capture_default_str();
   sub.add_option("--points", opt->points, "Comma-separated point counts")->capture_default_str();
   sub.add_option("--modes", opt->modes, "Comma-separated modes")->capture_default_str();
+  sub.add_option("--rasters", opt->rasters, "Comma-separated point rasters (compute, pipeline)")
+      ->capture_default_str();
   sub.add_option("--frames", opt->frames, "Timed frames per configuration")->capture_default_str();
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
   return [opt] { return Run(*opt); };

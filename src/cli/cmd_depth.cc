@@ -30,6 +30,7 @@ struct DepthOptions {
   std::string photo;
   std::string camera_file;
   std::string mode = "lechelek";
+  std::string raster = "compute";
   std::string size;
   std::string out;
 };
@@ -61,6 +62,7 @@ cv::Mat FalseColour(const cv::Mat& depth) {
 
 int Run(const DepthOptions& opt) {
   const render::DepthMode mode = render::ParseDepthMode(opt.mode);
+  const render::PointRaster raster = render::ParsePointRaster(opt.raster);
   const std::filesystem::path out = opt.out;
   if (out.extension() != ".exr") throw UsageError("--out must end in .exr, got " + opt.out);
   const Scene scene = LoadWorkspace(opt.workspace);
@@ -87,6 +89,7 @@ int Run(const DepthOptions& opt) {
   const gl::ShaderLibrary shaders;
   render::DepthPassOptions pass_options;
   pass_options.mode = mode;
+  pass_options.raster = raster;
   render::DepthPass pass(shaders, pass_options);
   pass.SetPoints(scene.points);
   render::DepthTarget target = render::DepthTarget::Create(size.width, size.height);
@@ -126,6 +129,10 @@ CommandRunner SetupDepth(CLI::App& sub) {
   auto* camera =
       sub.add_option("--camera", opt->camera_file, "Camera file (JSON, docs/formats.md)");
   photo->excludes(camera);
+  sub.add_option("--raster", opt->raster,
+                 "How points are rasterised: compute (shaders with atomics) or pipeline "
+                 "(GL_POINTS sprites)")
+      ->capture_default_str();
   sub.add_option("--mode", opt->mode, "plain, marroquim or lechelek")
       ->default_val("lechelek")
       ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 
 #include "core/error.h"
 #include "core/projection.h"
@@ -32,6 +33,17 @@ std::vector<DepthMode> AllDepthModes() {
   return {DepthMode::kPlain, DepthMode::kMarroquim, DepthMode::kLechelek};
 }
 
+std::string PointRasterName(PointRaster raster) {
+  return raster == PointRaster::kCompute ? "compute" : "pipeline";
+}
+
+PointRaster ParsePointRaster(const std::string& name) {
+  for (PointRaster r : {PointRaster::kCompute, PointRaster::kPipeline}) {
+    if (PointRasterName(r) == name) return r;
+  }
+  throw UsageError("unknown point raster '" + name + "' (compute, pipeline)");
+}
+
 DepthTarget DepthTarget::Create(int width, int height) {
   HDRIBR_CHECK(width > 0 && height > 0);
   DepthTarget t;
@@ -45,15 +57,20 @@ DepthTarget DepthTarget::Create(int width, int height) {
 // Size-dependent intermediate buffers: step-1 splat buffer and the two pull-push pyramids.
 struct DepthPass::Buffers {
   int width = 0, height = 0;
+  // Step-1 depth as R32UI (shaders/splat_depth.glsl), normal (plain only), z-buffer.
   gl::Texture splat_depth, splat_normal, splat_zbuffer;
   gl::Framebuffer splat_fb;
   // Level 0 of both pyramids: layers 0 (foreground) and 1 (background) of 2D arrays, so that
-  // step 2 can fill both in one layered draw; the pyramids see them through layer views.
-  gl::Texture level0_a, level0_b, level0_z;
+  // step 2 can fill both in one layered draw or dispatch; the pyramids see them through layer
+  // views. level0_nearest: the compute raster's per-layer nearest depth (R32UI).
+  gl::Texture level0_a, level0_b, level0_z, level0_nearest;
   gl::Framebuffer layered_fb;
   PullPushPyramid front, back;
   gl::Texture front_zbuffer, back_zbuffer;
   gl::Framebuffer front_fb, back_fb;
+  // Lechelek's foreground holes: indirect dispatch arguments (groups x, y, z), count, pixels
+  // (shaders/resolve.comp, MODE 2 and 3).
+  gl::Buffer holes;
 };
 
 namespace {
@@ -67,6 +84,8 @@ void MakeProjectionTarget(PullPushPyramid& pyr, gl::Texture& zbuffer, gl::Frameb
   fb.SetDrawBuffers(2);
   fb.CheckComplete();
 }
+
+constexpr GLuint kNoSplat = 0xFFFFFFFFu;  // shaders/splat_depth.glsl
 
 void ClearTarget(const gl::Framebuffer& fb) {
   const float zero[4] = {0, 0, 0, 0};
@@ -83,7 +102,7 @@ DepthPass::Buffers& DepthPass::BuffersFor(int width, int height) {
   auto b = std::make_unique<Buffers>();
   b->width = width;
   b->height = height;
-  b->splat_depth = gl::Texture::Create2D(GL_R32F, width, height);
+  b->splat_depth = gl::Texture::Create2D(GL_R32UI, width, height);
   b->splat_normal = gl::Texture::Create2D(GL_RGBA16F, width, height);
   b->splat_zbuffer = gl::Texture::Create2D(GL_DEPTH_COMPONENT32F, width, height);
   b->splat_fb = gl::Framebuffer::Create();
@@ -95,6 +114,7 @@ DepthPass::Buffers& DepthPass::BuffersFor(int width, int height) {
   b->level0_a = gl::Texture::Create2DArray(GL_RGBA32F, width, height, 2);
   b->level0_b = gl::Texture::Create2DArray(GL_RGBA32F, width, height, 2);
   b->level0_z = gl::Texture::Create2DArray(GL_DEPTH_COMPONENT32F, width, height, 2);
+  b->level0_nearest = gl::Texture::Create2DArray(GL_R32UI, width, height, 2);
   b->layered_fb = gl::Framebuffer::Create();
   b->layered_fb.AttachColor(0, b->level0_a);
   b->layered_fb.AttachColor(1, b->level0_b);
@@ -107,6 +127,8 @@ DepthPass::Buffers& DepthPass::BuffersFor(int width, int height) {
                                     gl::Texture::LayerView(b->level0_b, 1));
   MakeProjectionTarget(b->front, b->front_zbuffer, b->front_fb);
   MakeProjectionTarget(b->back, b->back_zbuffer, b->back_fb);
+  b->holes = gl::Buffer(sizeof(GLuint) * (4 + static_cast<size_t>(width) * height), nullptr,
+                        GL_DYNAMIC_STORAGE_BIT);
   buffers_ = std::move(b);
   return *buffers_;
 }
@@ -120,13 +142,27 @@ DepthPass::DepthPass(const gl::ShaderLibrary& shaders, DepthPassOptions options)
       project_layered_(epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array")
                            ? shaders.Build({"project.vert", "project.frag"}, {{"CLASSIFY", "3"}})
                            : gl::Program()),
+      splat_compute_(shaders.Build({"splat.comp"}, {{"WRITE_NORMAL", "0"}})),
+      splat_normal_compute_(shaders.Build({"splat.comp"}, {{"WRITE_NORMAL", "1"}})),
+      project_compute_{{shaders.Build({"project.comp"}, {{"CLASSIFY", "0"}, {"STAGE", "1"}}),
+                        shaders.Build({"project.comp"}, {{"CLASSIFY", "0"}, {"STAGE", "2"}})},
+                       {shaders.Build({"project.comp"}, {{"CLASSIFY", "1"}, {"STAGE", "1"}}),
+                        shaders.Build({"project.comp"}, {{"CLASSIFY", "1"}, {"STAGE", "2"}})}},
       resolve_{shaders.Build({"resolve.comp"}, {{"MODE", "0"}}),
                shaders.Build({"resolve.comp"}, {{"MODE", "1"}}),
                shaders.Build({"resolve.comp"}, {{"MODE", "2"}})},
+      resolve_holes_(shaders.Build({"resolve.comp"}, {{"MODE", "3"}})),
       pull_push_(shaders) {
   float range[2] = {1, 64};
   glGetFloatv(GL_POINT_SIZE_RANGE, range);
   max_point_size_ = range[1];
+  GLint64 block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  GLint align = 16;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+  // Whole points per block, and range offsets (multiples of 32 bytes) on the alignment.
+  const size_t step = static_cast<size_t>(std::max(1, align / std::gcd(align, 32)));
+  max_points_per_dispatch_ = std::max<size_t>(step, static_cast<size_t>(block) / 32 / step * step);
   for (int i = 0; i <= DepthStepTimes::kSteps; ++i) {
     stamps_.push_back(gl::TimestampQuery::Create());
   }
@@ -136,6 +172,150 @@ DepthPass::~DepthPass() = default;
 
 void DepthPass::SetPoints(const PointCloud& cloud, float radius_override) {
   points_ = PointBuffer(cloud, radius_override);
+}
+
+// What the steps of one Process() call share.
+struct DepthPass::Frame {
+  DepthMode mode;
+  bool draw;  // some point may be in front of the camera
+  int width, height;
+  Eigen::Matrix4f cam_from_world, clip_from_cam;
+  float intrinsics[4];  // fx, fy, cx, cy in target pixels
+  float size[2];
+  float near;
+  float max_point_size;
+
+  // Uniforms of shaders/camera.glsl (and the compute raster's near plane).
+  void SetCamera(const gl::Program& p) const {
+    glProgramUniformMatrix4fv(p.id(), 0, 1, GL_FALSE, cam_from_world.data());
+    glProgramUniformMatrix4fv(p.id(), 1, 1, GL_FALSE, clip_from_cam.data());
+    glProgramUniform4fv(p.id(), 2, 1, intrinsics);
+    glProgramUniform2fv(p.id(), 3, 1, size);
+    glProgramUniform1f(p.id(), 4, max_point_size);
+  }
+};
+
+namespace {
+
+// One invocation per point (shaders/points_buffer.glsl), groups of 64, 2D beyond 65535 groups;
+// clouds larger than one storage block (GL_MAX_SHADER_STORAGE_BLOCK_SIZE, 128 MiB = 4M points
+// on llvmpipe) in several dispatches over ranges of the buffer.
+void DispatchPoints(const gl::Program& p, const PointBuffer& points, float near,
+                    size_t max_points_per_dispatch) {
+  glProgramUniform1f(p.id(), 9, near);
+  p.Use();
+  constexpr size_t kStride = 32;  // bytes per point (render/point_buffer.cc)
+  for (size_t first = 0; first < points.size(); first += max_points_per_dispatch) {
+    const size_t n = std::min(points.size() - first, max_points_per_dispatch);
+    glProgramUniform1ui(p.id(), 8, static_cast<GLuint>(n));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, points.buffer().id(),
+                      static_cast<GLintptr>(first * kStride), static_cast<GLsizeiptr>(n * kStride));
+    const auto groups = static_cast<GLuint>((n + 63) / 64);
+    const GLuint gx = std::min<GLuint>(groups, 65535);
+    glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
+  }
+}
+
+void ClearLayer(const gl::Texture& array, int layer, GLenum format, GLenum type,
+                const void* value) {
+  glClearTexSubImage(array.id(), 0, 0, 0, layer, array.width(), array.height(), 1, format, type,
+                     value);
+}
+
+}  // namespace
+
+void DepthPass::SplatStep(const Frame& f, Buffers& buf) {
+  const bool plain = f.mode == DepthMode::kPlain;
+  if (f.mode == DepthMode::kMarroquim) return;  // reads no step-1 output
+  glClearTexImage(buf.splat_depth.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &kNoSplat);
+  if (plain) glClearTexImage(buf.splat_normal.id(), 0, GL_RGBA, GL_FLOAT, nullptr);
+  if (!f.draw) return;
+  if (options_.raster == PointRaster::kCompute) {
+    f.SetCamera(splat_compute_);
+    glBindImageTexture(0, buf.splat_depth.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    DispatchPoints(splat_compute_, points_, f.near, max_points_per_dispatch_);
+    if (plain) {
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      f.SetCamera(splat_normal_compute_);
+      glBindImageTexture(1, buf.splat_normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+      DispatchPoints(splat_normal_compute_, points_, f.near, max_points_per_dispatch_);
+    }
+    return;
+  }
+  // The step-1 normal is the output of plain only; lechelek needs depth and coverage.
+  buf.splat_fb.SetDrawBuffers(plain ? 2 : 1);
+  const float one = 1.0f;
+  glClearNamedFramebufferfv(buf.splat_fb.id(), GL_DEPTH, 0, &one);
+  buf.splat_fb.Bind(f.width, f.height);
+  f.SetCamera(splat_);
+  splat_.Use();
+  points_.Bind();
+  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(points_.size()));
+}
+
+void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
+  if (f.mode == DepthMode::kPlain) return;
+  const bool classify = f.mode == DepthMode::kLechelek;
+  const int layers = classify ? 2 : 1;  // marroquim reads the foreground pyramid only
+  const auto count = static_cast<GLsizei>(points_.size());
+  if (options_.raster == PointRaster::kCompute) {
+    for (int l = 0; l < layers; ++l) {
+      ClearLayer(buf.level0_a, l, GL_RGBA, GL_FLOAT, nullptr);
+      ClearLayer(buf.level0_b, l, GL_RGBA, GL_FLOAT, nullptr);
+      ClearLayer(buf.level0_nearest, l, GL_RED_INTEGER, GL_UNSIGNED_INT, &kNoSplat);
+    }
+    if (!f.draw) return;
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindTextureUnit(0, buf.splat_depth.id());
+    glBindImageTexture(0, buf.level0_nearest.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(1, buf.level0_a.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, buf.level0_b.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    for (int stage = 0; stage < 2; ++stage) {
+      const gl::Program& p = project_compute_[classify ? 1 : 0][stage];
+      f.SetCamera(p);
+      if (classify) {
+        glProgramUniform1f(p.id(), 5, options_.front_radii);
+        glProgramUniform1f(p.id(), 6, options_.front_rel);
+      }
+      if (stage == 1) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      DispatchPoints(p, points_, f.near, max_points_per_dispatch_);
+    }
+    return;
+  }
+  const bool layered = classify && project_layered_ && options_.layered_classify;
+  if (layered) {
+    ClearTarget(buf.layered_fb);  // both layers
+  } else {
+    ClearTarget(buf.front_fb);
+    if (classify) ClearTarget(buf.back_fb);
+  }
+  if (!f.draw) return;
+  points_.Bind();
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  glBindTextureUnit(0, buf.splat_depth.id());
+  auto set_classify = [&](const gl::Program& p) {
+    f.SetCamera(p);
+    glProgramUniform1f(p.id(), 5, options_.front_radii);
+    glProgramUniform1f(p.id(), 6, options_.front_rel);
+    p.Use();
+  };
+  if (!classify) {
+    buf.front_fb.Bind(f.width, f.height);
+    f.SetCamera(project_all_);
+    project_all_.Use();
+    glDrawArrays(GL_POINTS, 0, count);
+  } else if (layered) {
+    buf.layered_fb.Bind(f.width, f.height);  // one draw: front -> layer 0, back -> layer 1
+    set_classify(project_layered_);
+    glDrawArrays(GL_POINTS, 0, count);
+  } else {
+    buf.front_fb.Bind(f.width, f.height);
+    set_classify(project_front_);
+    glDrawArrays(GL_POINTS, 0, count);
+    buf.back_fb.Bind(f.width, f.height);
+    set_classify(project_back_);
+    glDrawArrays(GL_POINTS, 0, count);
+  }
 }
 
 void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target) {
@@ -151,7 +331,6 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   times_ = {};
 
   // Clip range from the cloud's bounds in camera space. Points behind the camera are clipped.
-  const Eigen::Matrix4d cam_from_world_m = cam_from_world.Matrix4();
   double zmax = 0.0;
   if (points_.size() > 0) {
     const Bounds& bb = points_.bounds();
@@ -162,21 +341,21 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
       zmax = std::max(zmax, (cam_from_world * corner).z());
     }
   }
-  const bool draw = points_.size() > 0 && zmax > 0.0;
-  const float far = static_cast<float>(draw ? zmax * 1.01 : 1.0);
-  const float near = far * 1e-5f;
-  const Eigen::Matrix4f clip_from_cam = ClipFromCam(cam, near, far);
-  const Eigen::Matrix4f cfw = cam_from_world_m.cast<float>();
-  const float intr[4] = {static_cast<float>(cam.fx()), static_cast<float>(cam.fy()),
-                         static_cast<float>(cam.cx()), static_cast<float>(cam.cy())};
-  const float size[2] = {static_cast<float>(width), static_cast<float>(height)};
-  auto set_camera = [&](const gl::Program& p) {
-    glProgramUniformMatrix4fv(p.id(), 0, 1, GL_FALSE, cfw.data());
-    glProgramUniformMatrix4fv(p.id(), 1, 1, GL_FALSE, clip_from_cam.data());
-    glProgramUniform4fv(p.id(), 2, 1, intr);
-    glProgramUniform2fv(p.id(), 3, 1, size);
-    glProgramUniform1f(p.id(), 4, max_point_size_);
-  };
+  Frame f;
+  f.mode = options_.mode;
+  f.draw = points_.size() > 0 && zmax > 0.0;
+  f.width = width;
+  f.height = height;
+  const float far = static_cast<float>(f.draw ? zmax * 1.01 : 1.0);
+  f.near = far * 1e-5f;
+  f.clip_from_cam = ClipFromCam(cam, f.near, far);
+  f.cam_from_world = cam_from_world.Matrix4().cast<float>();
+  const double intr[4] = {cam.fx(), cam.fy(), cam.cx(), cam.cy()};
+  for (int i = 0; i < 4; ++i) f.intrinsics[i] = static_cast<float>(intr[i]);
+  f.size[0] = static_cast<float>(width);
+  f.size[1] = static_cast<float>(height);
+  f.max_point_size = max_point_size_;
+
   const bool profile = options_.profile;
   using Clock = std::chrono::steady_clock;
   Clock::time_point wall[DepthStepTimes::kSteps + 1];
@@ -193,7 +372,8 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
     wall[i + 1] = Clock::now();
   };
 
-  const DepthMode mode = options_.mode;
+  const DepthMode mode = f.mode;
+  const bool draw = f.draw;
   glEnable(GL_PROGRAM_POINT_SIZE);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -202,70 +382,26 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
 
   // Step 1: elliptical splats with depth test (plain and lechelek).
   begin(0);
-  // The step-1 normal is the output of plain only; lechelek needs depth and coverage.
-  buf.splat_fb.SetDrawBuffers(mode == DepthMode::kPlain ? 2 : 1);
-  ClearTarget(buf.splat_fb);
-  if (draw && mode != DepthMode::kMarroquim) {
-    buf.splat_fb.Bind(width, height);
-    set_camera(splat_);
-    splat_.Use();
-    points_.Bind();
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(points_.size()));
-  }
+  SplatStep(f, buf);
   end(0);
 
   // Step 2: projection of point centres (classified front/back for lechelek).
   begin(1);
-  const bool layered = project_layered_ && options_.layered_classify;
-  if (mode == DepthMode::kMarroquim || !layered) {
-    ClearTarget(buf.front_fb);
-    ClearTarget(buf.back_fb);
-  } else {
-    ClearTarget(buf.layered_fb);  // both layers
-  }
-  if (draw && mode != DepthMode::kPlain) {
-    points_.Bind();
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(0, buf.splat_depth.id());
-    auto set_classify = [&](const gl::Program& p) {
-      set_camera(p);
-      glProgramUniform1f(p.id(), 5, options_.front_radii);
-      glProgramUniform1f(p.id(), 6, options_.front_rel);
-      p.Use();
-    };
-    const auto count = static_cast<GLsizei>(points_.size());
-    if (mode == DepthMode::kMarroquim) {
-      buf.front_fb.Bind(width, height);
-      set_camera(project_all_);
-      project_all_.Use();
-      glDrawArrays(GL_POINTS, 0, count);
-    } else if (layered) {
-      buf.layered_fb.Bind(width, height);  // one draw: front -> layer 0, back -> layer 1
-      set_classify(project_layered_);
-      glDrawArrays(GL_POINTS, 0, count);
-    } else {
-      buf.front_fb.Bind(width, height);
-      set_classify(project_front_);
-      glDrawArrays(GL_POINTS, 0, count);
-      buf.back_fb.Bind(width, height);
-      set_classify(project_back_);
-      glDrawArrays(GL_POINTS, 0, count);
-    }
-  }
+  ProjectStep(f, buf);
   end(1);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glBindVertexArray(0);
 
   // Step 3: pull-push (on the foreground and background separately for lechelek).
   begin(2);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   // The background's last push (level 1 to 0) is left to the resolve, which needs it only
   // where the foreground has a hole.
   const bool push_back_in_resolve = buf.back.levels() >= 2;
   if (draw && mode != DepthMode::kPlain) {
-    pull_push_.Process(buf.front, intr);
+    pull_push_.Process(buf.front, f.intrinsics);
     if (mode == DepthMode::kLechelek) {
-      pull_push_.Process(buf.back, intr, push_back_in_resolve ? 1 : 0);
+      pull_push_.Process(buf.back, f.intrinsics, push_back_in_resolve ? 1 : 0);
     }
   }
   end(2);
@@ -273,7 +409,7 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   // Steps 4-5: coverage mask and merge.
   begin(3);
   const gl::Program& resolve = resolve_[static_cast<int>(mode)];
-  set_camera(resolve);
+  f.SetCamera(resolve);
   resolve.Use();
   glBindTextureUnit(0, buf.splat_depth.id());
   glBindTextureUnit(1, buf.splat_normal.id());
@@ -284,14 +420,28 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   const size_t back1 = push_back_in_resolve ? 1 : 0;
   glBindTextureUnit(6, buf.back.a[back1].id());
   glBindTextureUnit(7, buf.back.b[back1].id());
-  if (mode == DepthMode::kLechelek) {
+  const bool lechelek = mode == DepthMode::kLechelek;
+  if (lechelek) {
     glProgramUniform1i(resolve.id(), 7, push_back_in_resolve && draw ? 1 : 0);
+    const GLuint reset[4] = {0, 1, 1, 0};  // no group, no hole yet
+    glNamedBufferSubData(buf.holes.id(), 0, sizeof(reset), reset);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.holes.id());
   }
   glBindImageTexture(0, target.depth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glBindImageTexture(1, target.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glBindImageTexture(2, target.valid.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
   glBindImageTexture(3, target.classes.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
   glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8), 1);
+  if (lechelek && push_back_in_resolve && draw) {
+    // The background's last push at the listed hole pixels only.
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    f.SetCamera(resolve_holes_);
+    resolve_holes_.Use();
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buf.holes.id());
+    glDispatchComputeIndirect(0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  }
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   end(3);
   for (int u = 0; u < 8; ++u) glBindTextureUnit(static_cast<GLuint>(u), 0);

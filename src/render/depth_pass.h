@@ -35,6 +35,16 @@ std::string DepthModeName(DepthMode mode);
 DepthMode ParseDepthMode(const std::string& name);
 std::vector<DepthMode> AllDepthModes();
 
+// How the point steps (1: splats, 2: projection) are rasterised; both cover the same pixels.
+enum class PointRaster {
+  kCompute,   // compute shaders, one invocation per point, nearest depth by image atomicMin
+  kPipeline,  // GL_POINTS sprites through the graphics pipeline and its depth test
+};
+
+// "compute", "pipeline"; ParsePointRaster throws UsageError for anything else.
+std::string PointRasterName(PointRaster raster);
+PointRaster ParsePointRaster(const std::string& name);
+
 // Output of the pass, at any resolution: camera z (R32F, positive forward, 0 = invalid),
 // camera-space unit normal facing the camera (RGBA16F, xyz; COLMAP axes), validity (R8,
 // 1 = valid) and the pixel class (R8UI, DepthClass). Row 0 is the top image row.
@@ -51,11 +61,13 @@ struct DepthTarget {
 
 struct DepthPassOptions {
   DepthMode mode = DepthMode::kLechelek;
+  PointRaster raster = PointRaster::kCompute;
   // Step 2: a point is front when z <= z1 + front_radii * r + front_rel * z1, z1 the step-1
   // depth at its centre pixel and r its splat radius (world units).
   float front_radii = 2.0f;
   float front_rel = 0.005f;
-  // Step 2 in one layered draw when ARB_shader_viewport_layer_array is there (else two draws).
+  // Pipeline raster: step 2 in one layered draw when ARB_shader_viewport_layer_array is there
+  // (else two draws). The compute raster always fills both layers in one dispatch.
   bool layered_classify = true;
   // Measure each step: GL timestamp queries (GPU time) and wall time with glFinish() after
   // each step (which serialises the frame: use for per-step figures only).
@@ -94,7 +106,10 @@ class DepthPass {
 
  private:
   struct Buffers;
+  struct Frame;
   Buffers& BuffersFor(int width, int height);
+  void SplatStep(const Frame& f, Buffers& buf);
+  void ProjectStep(const Frame& f, Buffers& buf);
 
   DepthPassOptions options_;
   gl::Program splat_;
@@ -102,13 +117,18 @@ class DepthPass {
   gl::Program project_front_;
   gl::Program project_back_;
   gl::Program project_layered_;  // empty without ARB_shader_viewport_layer_array
-  gl::Program resolve_[3];
+  gl::Program splat_compute_;
+  gl::Program splat_normal_compute_;
+  gl::Program project_compute_[2][2];  // [classify][stage - 1]
+  gl::Program resolve_[3];             // per DepthMode
+  gl::Program resolve_holes_;
   PullPushPass pull_push_;
   PointBuffer points_;
   std::unique_ptr<Buffers> buffers_;
   std::vector<gl::TimestampQuery> stamps_;
   DepthStepTimes times_;
   float max_point_size_ = 64.0f;
+  size_t max_points_per_dispatch_ = 1;  // points in one storage block (compute raster)
 };
 
 }  // namespace hdribr::render

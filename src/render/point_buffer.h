@@ -15,7 +15,8 @@ class PointBuffer {
  public:
   PointBuffer() = default;
   // Uploads positions, normals (zero when absent: view-facing discs) and radii (the
-  // DefaultSplatRadius heuristic when absent, or `radius_override` when > 0).
+  // DefaultSplatRadius heuristic when absent, or `radius_override` when > 0), in Morton order
+  // of the positions (not the cloud's order).
   explicit PointBuffer(const PointCloud& cloud, float radius_override = 0.0f);
   PointBuffer(PointBuffer&&) noexcept = default;
   PointBuffer& operator=(PointBuffer&&) noexcept = default;
@@ -25,6 +26,9 @@ class PointBuffer {
   const Bounds& bounds() const { return bounds_; }
   // Binds the vertex array (attributes 0: position, 1: normal, 2: radius).
   void Bind() const;
+  // The buffer itself, 8 floats per point (position, normal, radius, padding), for shaders
+  // that read it as storage (shaders/points_buffer.glsl).
+  const gl::Buffer& buffer() const { return buffer_; }
 
  private:
   gl::Buffer buffer_;

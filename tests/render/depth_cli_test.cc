@@ -66,7 +66,18 @@ TEST_F(DepthCliTest, CameraFile) {
                                   " --camera " + (tmp / "cam.json").string() +
                                   " --mode marroquim --out " + (tmp / "c.exr").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(ReadExr(tmp / "c.exr").cols, 64);
+  const cv::Mat compute = ReadExr(tmp / "c.exr");
+  EXPECT_EQ(compute.cols, 64);
+  // The graphics-pipeline raster gives the same depth map up to a few pixels.
+  const auto p =
+      test::RunCommand(Exe() + " depth " + (*dir_ / "workspace").string() + " --camera " +
+                       (tmp / "cam.json").string() + " --mode marroquim --raster pipeline --out " +
+                       (tmp / "p.exr").string());
+  ASSERT_EQ(p.exit_code, 0) << p.output;
+  const cv::Mat pipeline = ReadExr(tmp / "p.exr");
+  cv::Mat differ = cv::abs(compute - pipeline) > 0.01 * pipeline;
+  EXPECT_GT(cv::countNonZero(compute), 64 * 48 / 4);
+  EXPECT_LE(cv::countNonZero(differ), 64 * 48 / 100);
 }
 
 TEST_F(DepthCliTest, BadInputIsOneClearErrorAndNoOutput) {
@@ -80,6 +91,9 @@ TEST_F(DepthCliTest, BadInputIsOneClearErrorAndNoOutput) {
   EXPECT_EQ(r.exit_code, 64) << r.output;
   r = test::RunCommand(Exe() + " depth " + ws + " --photo s0_v00.jpg --size 0x5 --out " + out);
   EXPECT_EQ(r.exit_code, 64) << r.output;
+  r = test::RunCommand(Exe() + " depth " + ws + " --photo s0_v00.jpg --raster gpu --out " + out);
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("unknown point raster 'gpu'"), std::string::npos) << r.output;
   std::ofstream(tmp / "bad.json") << "{\"width\": 3}";
   r = test::RunCommand(Exe() + " depth " + ws + " --camera " + (tmp / "bad.json").string() +
                        " --out " + out);
