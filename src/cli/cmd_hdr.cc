@@ -35,6 +35,7 @@ struct HdrOptions {
   std::string response;
   double lambda = CalibrationOptions().lambda;
   int samples = CalibrationOptions().samples;
+  bool plain_debevec = false;
   std::string out;
   double scale = 1.0;
   bool no_aligned = false;
@@ -128,6 +129,7 @@ int Run(const HdrOptions& opt) {
   if (!(opt.lambda > 0) || opt.samples < 1) throw UsageError("--lambda and --samples must be > 0");
   options.calibration.lambda = opt.lambda;
   options.calibration.samples = opt.samples;
+  if (opt.plain_debevec) options.calibration = PlainDebevec(options.calibration);
   options.output = opt.out;
   options.scale = opt.scale;
   options.export_aligned = !opt.no_aligned;
@@ -173,6 +175,8 @@ CommandRunner SetupHdr(CLI::App& sub) {
   sub.add_option("--lambda", opt->lambda, "Calibration smoothness weight")->capture_default_str();
   sub.add_option("--samples", opt->samples, "Calibration samples per channel")
       ->capture_default_str();
+  sub.add_flag("--plain-debevec", opt->plain_debevec,
+               "Calibrate as Debevec-Malik published (smoothness in z, all samples, one solve)");
   sub.add_option("--out", opt->out, "Output folder (default: WORKSPACE/hdr)");
   sub.add_option("--scale", opt->scale, "Render size relative to the views' cameras")
       ->capture_default_str();

@@ -32,6 +32,7 @@ struct MergeOptions {
   std::string response;
   double lambda = CalibrationOptions().lambda;
   int samples = CalibrationOptions().samples;
+  bool plain_debevec = false;
   std::string out;
   bool float_exr = false;
   std::string save_response;
@@ -146,6 +147,7 @@ int Run(const MergeOptions& opt) {
     CalibrationOptions calibration;
     calibration.lambda = opt.lambda;
     calibration.samples = opt.samples;
+    if (opt.plain_debevec) calibration = PlainDebevec(calibration);
     CalibrationStats stats;
     try {
       response = CalibrateDebevec(stack, calibration, &stats);
@@ -235,6 +237,9 @@ CommandRunner SetupMerge(CLI::App& sub) {
       ->excludes(response)
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  sub.add_flag("--plain-debevec", opt->plain_debevec,
+               "Calibrate as Debevec-Malik published (smoothness in z, all samples, one solve)")
+      ->excludes(response);
   sub.add_option("--out", opt->out, "Output radiance map (.exr, half RGB)")->required();
   sub.add_flag("--float", opt->float_exr, "Write 32-bit float instead of half");
   sub.add_option("--save-response", opt->save_response, "Write the response curve used (JSON)");

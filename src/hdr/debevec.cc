@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
 
@@ -20,8 +21,10 @@ constexpr int kMid = 128;  // g(kMid) = 0 fixes the curve's free additive consta
 // (windows, sky) constrain the curve, and the rest in proportion to the bins' pixel counts, so
 // that the common radiances are fitted as well. Within a bin, picks are evenly spaced in scan
 // order, i.e. spread over the image.
+// With `contrast` (CV_16UC1, optional), only the flattest `flat_fraction` of each bin's
+// candidates are kept before picking.
 std::vector<int> SelectSamples(const cv::Mat& reference, const cv::Mat& all_valid, int channel,
-                               int count) {
+                               int count, const cv::Mat& contrast, double flat_fraction) {
   constexpr int kBins = 32;
   const int w = reference.cols;
   const int h = reference.rows;
@@ -39,6 +42,22 @@ std::vector<int> SelectSamples(const cv::Mat& reference, const cv::Mat& all_vali
     }
   }
   if (candidates == 0) return {};
+  if (!contrast.empty() && flat_fraction < 1.0) {
+    candidates = 0;
+    for (auto& bin : bins) {
+      if (bin.empty()) continue;
+      const size_t keep = std::max<size_t>(1, std::llround(flat_fraction * bin.size()));
+      const uint16_t* flatness = contrast.ptr<uint16_t>();
+      // Flattest first, ties by scan order (the same picks on every platform).
+      std::nth_element(bin.begin(), bin.begin() + static_cast<long>(keep) - 1, bin.end(),
+                       [&](int a, int b) {
+                         return flatness[a] != flatness[b] ? flatness[a] < flatness[b] : a < b;
+                       });
+      bin.resize(keep);
+      std::sort(bin.begin(), bin.end());  // back to scan order: spread over the image
+      candidates += static_cast<long>(keep);
+    }
+  }
   int nonempty = 0;
   for (const auto& bin : bins) nonempty += !bin.empty();
   constexpr double kCover = 0.25;  // share of the samples split evenly over the bins
@@ -73,9 +92,116 @@ cv::Mat AllValid(const ExposureStack& stack) {
   return all;
 }
 
+// Local contrast per channel: the 3x3 range (max - min, in DN) summed over the images
+// (CV_16UC3: at most 255 per image, so exact up to 257 images; saturates beyond).
+cv::Mat LocalContrast(const ExposureStack& stack) {
+  cv::Mat sum(stack.images[0].size(), CV_16UC3, cv::Scalar::all(0));
+  const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
+  cv::Mat range;
+  for (const cv::Mat& image : stack.images) {
+    cv::morphologyEx(image, range, cv::MORPH_GRADIENT, box);
+    cv::add(sum, range, sum, cv::noArray(), CV_16U);
+  }
+  return sum;
+}
+
+// One channel's sample: its value in every image of the stack.
+using SampleValues = std::vector<uint8_t>;
+
+// The smoothness term's second difference at k as coefficients of g(k-1), g(k), g(k+1). In
+// u = ln(k + 0.5) it is the difference of the slopes dg/du on either side times the mean step,
+// so that it is (1, -2, 1) where the steps are equal (large k) and lambda keeps its scale.
+std::array<double, 3> SecondDifference(int k, CalibrationOptions::Smoothness axis) {
+  if (axis == CalibrationOptions::Smoothness::kCode) return {1.0, -2.0, 1.0};
+  const double h1 = std::log((k + 0.5) / (k - 0.5));
+  const double h2 = std::log((k + 1.5) / (k + 0.5));
+  const double mean = 0.5 * (h1 + h2);
+  return {mean / h1, -mean / h1 - mean / h2, mean / h2};
+}
+
+// Debevec's least squares for one channel with g(128) = 0, over the samples flagged in `use`.
+// Returns false when the system cannot be solved.
+bool SolveChannel(const std::vector<SampleValues>& samples, const std::vector<char>& use,
+                  const std::vector<double>& log_t, const CalibrationOptions& options,
+                  std::vector<double>& g) {
+  const int p = static_cast<int>(log_t.size());
+  // Normal equations of Debevec's system with the per-sample unknowns ln E_i eliminated
+  // (Schur complement): for sample i with a_j = w(Z_ij)^2 and r_j = g(Z_ij) - ln t_j, the
+  // minimum over ln E_i of sum_j a_j (r_j - ln E_i)^2 is sum a r^2 - (sum a r)^2 / sum a.
+  // This leaves a dense 256 x 256 system whatever the number of samples.
+  Eigen::MatrixXd hess = Eigen::MatrixXd::Zero(kLevels, kLevels);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(kLevels);
+  std::vector<double> a(p);
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!use[i]) continue;
+    const SampleValues& z = samples[i];
+    double sum_a = 0;
+    double sum_al = 0;
+    for (int j = 0; j < p; ++j) {
+      const double wj = HatWeight(z[j]);
+      a[j] = wj * wj;
+      sum_a += a[j];
+      sum_al += a[j] * log_t[j];
+    }
+    for (int j = 0; j < p; ++j) {
+      if (a[j] == 0) continue;
+      hess(z[j], z[j]) += a[j];
+      rhs(z[j]) += a[j] * log_t[j] - a[j] * sum_al / sum_a;
+      for (int k = 0; k < p; ++k) {
+        if (a[k] != 0) hess(z[j], z[k]) -= a[j] * a[k] / sum_a;
+      }
+    }
+  }
+  // Smoothness: lambda w(z) D(g)(z) = 0 for z = 1..254, D the second difference.
+  for (int k = 1; k + 1 < kLevels; ++k) {
+    const double s = options.lambda * options.lambda * HatWeight(k) * HatWeight(k);
+    const int idx[3] = {k - 1, k, k + 1};
+    const std::array<double, 3> d = SecondDifference(k, options.smoothness);
+    for (int u = 0; u < 3; ++u) {
+      for (int v = 0; v < 3; ++v) hess(idx[u], idx[v]) += s * d[u] * d[v];
+    }
+  }
+  // g(128) = 0: drop that unknown.
+  Eigen::MatrixXd reduced(kLevels - 1, kLevels - 1);
+  Eigen::VectorXd reduced_rhs(kLevels - 1);
+  auto full = [](int r) { return r < kMid ? r : r + 1; };
+  for (int r = 0; r < kLevels - 1; ++r) {
+    reduced_rhs(r) = rhs(full(r));
+    for (int col = 0; col < kLevels - 1; ++col) reduced(r, col) = hess(full(r), full(col));
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced);
+  const Eigen::VectorXd solution = ldlt.solve(reduced_rhs);
+  if (ldlt.info() != Eigen::Success || !solution.allFinite()) return false;
+  g.assign(kLevels, 0.0);
+  for (int r = 0; r < kLevels - 1; ++r) g[full(r)] = solution(r);
+  return true;
+}
+
+// Weighted RMS of g(Z_ij) - ln t_j - ln E_i over the images of sample i (ln E_i fitted).
+double SampleResidual(const SampleValues& z, const std::vector<double>& log_t,
+                      const std::vector<double>& g) {
+  double sum_a = 0, sum_ar = 0, sum_arr = 0;
+  for (size_t j = 0; j < z.size(); ++j) {
+    const double wj = HatWeight(z[j]);
+    const double r = g[z[j]] - log_t[j];
+    sum_a += wj * wj;
+    sum_ar += wj * wj * r;
+    sum_arr += wj * wj * r * r;
+  }
+  const double mean = sum_ar / sum_a;
+  return std::sqrt(std::max(0.0, sum_arr / sum_a - mean * mean));
+}
+
 }  // namespace
 
 double HatWeight(int z) { return std::min(z, 255 - z); }
+
+CalibrationOptions PlainDebevec(CalibrationOptions options) {
+  options.smoothness = CalibrationOptions::Smoothness::kCode;
+  options.flat_fraction = 1.0;
+  options.trim = 0.0;
+  return options;
+}
 
 ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOptions& options,
                                CalibrationStats* stats) {
@@ -83,6 +209,12 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
   if (options.samples < 1) throw UsageError("--samples must be at least 1");
   if (!std::isfinite(options.lambda) || options.lambda < 0) {
     throw UsageError("--lambda must be a non-negative number");
+  }
+  if (!(options.flat_fraction > 0 && options.flat_fraction <= 1)) {
+    throw UsageError("the flat-sample fraction must be in (0, 1]");
+  }
+  if (!(options.trim >= 0 && options.trim < 1)) {
+    throw UsageError("the trimmed-sample fraction must be in [0, 1)");
   }
   const int p = static_cast<int>(stack.images.size());
   const auto [tmin, tmax] = std::minmax_element(stack.times.begin(), stack.times.end());
@@ -101,72 +233,60 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
   curve.source = "debevec";
   curve.lambda = options.lambda;
   CalibrationStats local_stats;
+  cv::Mat contrast3;
+  cv::Mat candidates_valid = all_valid;
+  if (options.flat_fraction < 1.0) {
+    contrast3 = LocalContrast(stack);
+    // Flat also means not at the border of a mask (partly covered, resampled pixels).
+    if (!all_valid.empty()) {
+      cv::Mat eroded;  // a new buffer: candidates_valid shares all_valid's
+      cv::erode(all_valid, eroded, cv::Mat());
+      if (cv::countNonZero(eroded) > 0) candidates_valid = eroded;
+    }
+  }
   for (int c = 0; c < 3; ++c) {
-    const std::vector<int> samples = SelectSamples(reference, all_valid, c, options.samples);
-    // Normal equations of Debevec's system with the per-sample unknowns ln E_i eliminated
-    // (Schur complement): for sample i with a_j = w(Z_ij)^2 and r_j = g(Z_ij) - ln t_j, the
-    // minimum over ln E_i of sum_j a_j (r_j - ln E_i)^2 is sum a r^2 - (sum a r)^2 / sum a.
-    // This leaves a dense 256 x 256 system whatever the number of samples.
-    Eigen::MatrixXd hess = Eigen::MatrixXd::Zero(kLevels, kLevels);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(kLevels);
-    std::vector<int> z(p);
-    std::vector<double> a(p);
-    int used = 0;
-    for (int index : samples) {
-      double sum_a = 0;
-      double sum_al = 0;
+    cv::Mat contrast;
+    if (!contrast3.empty()) cv::extractChannel(contrast3, contrast, c);
+    const std::vector<int> indices = SelectSamples(reference, candidates_valid, c, options.samples,
+                                                   contrast, options.flat_fraction);
+    std::vector<SampleValues> samples;
+    samples.reserve(indices.size());
+    for (int index : indices) {
+      SampleValues z(p);
       int observed = 0;
       for (int j = 0; j < p; ++j) {
         z[j] = stack.images[j].ptr<uint8_t>()[3 * static_cast<size_t>(index) + c];
-        const double wj = HatWeight(z[j]);
-        a[j] = wj * wj;
-        sum_a += a[j];
-        sum_al += a[j] * log_t[j];
-        observed += wj > 0;
+        observed += HatWeight(z[j]) > 0;
       }
-      if (observed < 2) continue;
-      ++used;
-      for (int j = 0; j < p; ++j) {
-        if (a[j] == 0) continue;
-        hess(z[j], z[j]) += a[j];
-        rhs(z[j]) += a[j] * log_t[j] - a[j] * sum_al / sum_a;
-        for (int k = 0; k < p; ++k) {
-          if (a[k] != 0) hess(z[j], z[k]) -= a[j] * a[k] / sum_a;
-        }
-      }
+      if (observed >= 2) samples.push_back(std::move(z));
     }
+    const int used = static_cast<int>(samples.size());
     if (used == 0) {
       throw UsageError(
           "no pixel is well exposed (values 1-254) in two or more images: the "
           "stack cannot constrain a response curve (pass a response file instead)");
     }
-    // Smoothness: lambda w(z) (g(z-1) - 2 g(z) + g(z+1)) = 0 for z = 1..254.
-    for (int k = 1; k + 1 < kLevels; ++k) {
-      const double s = options.lambda * options.lambda * HatWeight(k) * HatWeight(k);
-      const int idx[3] = {k - 1, k, k + 1};
-      const double d[3] = {1.0, -2.0, 1.0};
-      for (int u = 0; u < 3; ++u) {
-        for (int v = 0; v < 3; ++v) hess(idx[u], idx[v]) += s * d[u] * d[v];
+    std::vector<char> use(samples.size(), 1);
+    std::vector<double>& g = curve.log_inverse[c];
+    bool solved = SolveChannel(samples, use, log_t, options, g);
+    int drop = static_cast<int>(std::floor(options.trim * used));
+    if (!solved || used - drop < 1) drop = 0;
+    if (drop > 0) {
+      // Robust refit: drop the samples the first fit explains worst (series that disagree).
+      std::vector<std::pair<double, size_t>> residuals(samples.size());
+      for (size_t i = 0; i < samples.size(); ++i) {
+        residuals[i] = {SampleResidual(samples[i], log_t, g), i};
       }
+      std::nth_element(residuals.begin(), residuals.end() - drop, residuals.end());
+      for (auto it = residuals.end() - drop; it != residuals.end(); ++it) use[it->second] = 0;
+      // Should the refit be singular, g keeps the first fit (SolveChannel leaves it alone).
+      if (!SolveChannel(samples, use, log_t, options, g)) drop = 0;
     }
-    // g(128) = 0: drop that unknown.
-    Eigen::MatrixXd reduced(kLevels - 1, kLevels - 1);
-    Eigen::VectorXd reduced_rhs(kLevels - 1);
-    auto full = [](int r) { return r < kMid ? r : r + 1; };
-    for (int r = 0; r < kLevels - 1; ++r) {
-      reduced_rhs(r) = rhs(full(r));
-      for (int col = 0; col < kLevels - 1; ++col) reduced(r, col) = hess(full(r), full(col));
-    }
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced);
-    const Eigen::VectorXd solution = ldlt.solve(reduced_rhs);
-    if (ldlt.info() != Eigen::Success || !solution.allFinite()) {
+    if (!solved) {
       throw UsageError(
           "the response calibration is ill-conditioned for this stack (too few "
           "well exposed pixels); try more --samples or a larger --lambda");
     }
-    std::vector<double>& g = curve.log_inverse[c];
-    g.assign(kLevels, 0.0);
-    for (int r = 0; r < kLevels - 1; ++r) g[full(r)] = solution(r);
     // A response is monotonic; noise at the barely constrained ends can bend g back. Clamp
     // outward from the fixed middle so that g stays non-decreasing.
     int fixes = 0;
@@ -176,7 +296,7 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
     for (int k = kMid - 1; k >= 0; --k) {
       if (g[k] > g[k + 1]) g[k] = g[k + 1], ++fixes;
     }
-    local_stats.samples_used[c] = used;
+    local_stats.samples_used[c] = used - drop;
     local_stats.monotone_fixes[c] = fixes;
   }
   if (stats) *stats = local_stats;

@@ -44,8 +44,9 @@ struct HdrPhotoSetOptions {
   bool export_aligned = true;
   // Depth/blend settings for the per-series renders. The paper's weights by default: they
   // average every photo of the series that sees a pixel, and the calibration gains from the
-  // lower noise (default capture: response RMS over 10-245 DN 0.60 / 0.28 / 0.15 B/G/R with
-  // them, 1.53 / 0.56 / 0.55 with the Unstructured Lumigraph's few nearest photos).
+  // lower noise (default capture, Debevec's plain calibration: response RMS over 10-245 DN
+  // 0.60 / 0.28 / 0.15 B/G/R with them, 1.53 / 0.56 / 0.55 with the Unstructured Lumigraph's
+  // few nearest photos).
   RendererOptions renderer = [] {
     RendererOptions r;
     r.blend.weights = BlendWeights::kPaper;

@@ -82,14 +82,14 @@ TEST_F(HdrSetIoTest, CalibrationAndMergeMeetTargetsAndRoundTrip) {
   const HdrPhotoSet set = WriteHdrPhotoSet(plan, GtStacks(plan), opt);
 
   // Issue 6 target: RMS <= 3% of linear exposure over 10-245 DN. NOT reached on the synthetic
-  // camera (measured B/G/R 0.81/0.25/0.12): below ~25 DN its read noise (3e-4 of saturation)
-  // is 30-100% of the signal of the steep gamma-2.5/2.2/1.9 curves, so noisy dark samples bias
-  // g there; noise-free stacks give 0.073/0.028/0.014 (B quantisation: 1 DN at 10 DN is ~25%
-  // of X) and 30-245 DN is within 3% for G and R. The assertions below are regression bounds
-  // just above the measured figures, not the target; the merged-HDR target (next) is met.
+  // camera (measured B/G/R 0.077/0.065/0.019; 0.81/0.25/0.12 with Debevec's plain method):
+  // below ~25 DN its read noise (3e-4 of saturation) is 30-100% of the signal of the steep
+  // gamma-2.5/2.2/1.9 curves, so noisy dark samples bias g there; the trimmed refit drops
+  // most of them. Over 30-245 DN it is met (0.024/0.018/0.003), and noise-free stacks meet it
+  // everywhere (below). The bounds are regression bounds just above the measured figures.
   const ResponseCurve truth = ReadResponseCurve(*dir_ / "calib" / "response.json");
   const ResponseCurve got = ReadResponseCurve(set.folder / set.response_file);
-  const double bound[3] = {0.9, 0.3, 0.15};
+  const double bound[3] = {0.1, 0.08, 0.03};
   for (int c = 0; c < 3; ++c) {
     const double rms = RmsLinearError(got, truth, c), rms30 = RmsLinearError(got, truth, c, 30);
     std::printf(
@@ -99,16 +99,34 @@ TEST_F(HdrSetIoTest, CalibrationAndMergeMeetTargetsAndRoundTrip) {
     EXPECT_LE(rms, bound[c]) << "channel " << c;
   }
   {
+    // Noise-free stacks: the defaults meet the target in every channel (measured
+    // 0.002/0.008/0.004). Debevec's plain smoothness in z pulls the dark end of the gamma-2.5
+    // blue curve toward a line (measured 0.073), the smoothness in ln(z + 0.5) alone does not.
     HdrPhotoSet clean = plan;
     clean.folder = test::TempDir("hdr_set_io_clean") / "hdr";
-    const HdrPhotoSet s2 = WriteHdrPhotoSet(clean, GtStacks(plan, false), opt);
+    const std::vector<ExposureStack> clean_stacks = GtStacks(plan, false);
+    const HdrPhotoSet s2 = WriteHdrPhotoSet(clean, clean_stacks, opt);
     const ResponseCurve g2 = ReadResponseCurve(s2.folder / s2.response_file);
+    HdrPhotoSetOptions plain = opt;
+    plain.calibration.lambda = 30;
+    plain.calibration = PlainDebevec(plain.calibration);
+    clean.folder = test::TempDir("hdr_set_io_plain") / "hdr";
+    const HdrPhotoSet s3 = WriteHdrPhotoSet(clean, clean_stacks, plain);
+    const ResponseCurve g3 = ReadResponseCurve(s3.folder / s3.response_file);
+    plain.calibration.smoothness = CalibrationOptions::Smoothness::kLogCode;
+    clean.folder = test::TempDir("hdr_set_io_logz") / "hdr";
+    const HdrPhotoSet s4 = WriteHdrPhotoSet(clean, clean_stacks, plain);
+    const ResponseCurve g4 = ReadResponseCurve(s4.folder / s4.response_file);
     for (int c = 0; c < 3; ++c) {
       const double rms = RmsLinearError(g2, truth, c);
-      std::printf("[ figures  ] noise-free stacks: response channel %d RMS %.4f (10-245 DN)\n", c,
-                  rms);
-      EXPECT_LE(rms, c == 0 ? 0.08 : 0.03) << "channel " << c;
+      std::printf(
+          "[ figures  ] noise-free stacks: response channel %d RMS %.4f (10-245 DN; plain "
+          "Debevec %.4f, plain with smoothness in ln z %.4f)\n",
+          c, rms, RmsLinearError(g3, truth, c), RmsLinearError(g4, truth, c));
+      EXPECT_LE(rms, 0.015) << "channel " << c;
+      EXPECT_LE(RmsLinearError(g4, truth, c), 0.015) << "channel " << c;
     }
+    EXPECT_GT(RmsLinearError(g3, truth, 0), 0.05);
   }
   std::vector<double> errors;
   for (const HdrSetView& v : set.views) {

@@ -93,14 +93,16 @@ TEST_F(HdrSetTest, CalibratedSetMeetsResponseAndRadianceTargets) {
 
   const ResponseCurve got = ReadResponseCurve(set.folder / set.response_file);
   const ResponseCurve truth = ReadResponseCurve(*dir_ / "calib" / "response.json");
-  // Issue 6 targets: response RMS <= 3% over 10-245 DN and merged HDR vs GT <= 0.05. NEITHER
-  // is reached from renders with a calibrated curve (measured on this capture: response
-  // 0.60/0.28/0.15 B/G/R, 0.13/0.07/0.07 over 30-245 DN; merged 0.058): the
-  // dark end of the synthetic camera is read-noise dominated (see hdr_set_io_test.cc, where
-  // perfectly aligned stacks give 0.012 merged error), and the per-series renders resample
-  // neighbouring photos. With the true curve the merged target is met (next test). The bounds
-  // below are regression bounds just above the measured figures, not the targets.
-  const double bound[3] = {0.95, 0.35, 0.2};
+  // Issue 6 targets: response RMS <= 3% over 10-245 DN and merged HDR vs GT <= 0.05. Measured
+  // on this capture with the default calibration (log-code smoothness, flattest 30% of the
+  // candidates, trimmed refit, lambda 60): response 0.043/0.014/0.018 B/G/R (0.019/0.013/0.010
+  // over 30-245 DN), merged 0.0446: the merged target is met, the response one in G and R only.
+  // Debevec's plain method (lambda 30) gave 0.60-0.75/0.24/0.14-0.15 and merged 0.053-0.060:
+  // the per-series renders resample neighbouring photos, so the series disagree at edges, and
+  // the dark end of the synthetic camera is read-noise dominated (see hdr_set_io_test.cc).
+  // The response figures move with the renderer (blue 0.012-0.043 over recent revisions of
+  // the depth pass), so its bounds are regression bounds with that margin, not the target.
+  const double bound[3] = {0.08, 0.04, 0.05};
   for (int c = 0; c < 3; ++c) {
     const double rms = RmsLinearError(got, truth, c), rms30 = RmsLinearError(got, truth, c, 30);
     std::printf(
@@ -115,7 +117,7 @@ TEST_F(HdrSetTest, CalibratedSetMeetsResponseAndRadianceTargets) {
   for (double e : errors) std::printf("[ figures  ] reference view error %.4f\n", e);
   std::printf("[ figures  ] merged HDR vs GT, median over views %.4f (target 0.05)\n",
               Median(errors));
-  EXPECT_LE(Median(errors), 0.07);
+  EXPECT_LE(Median(errors), 0.05);  // the issue 6 target
 
   // The exports and the index.
   for (const HdrSetView& v : set.views) {

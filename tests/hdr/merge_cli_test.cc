@@ -1,6 +1,7 @@
 // `hdribr merge` end to end: memorial, response files, tone mapping, edge stacks and errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -126,6 +127,42 @@ TEST(MergeCli, NamedTimesFileAndInlineTimes) {
   EXPECT_NE(missing.output.find("missing.txt"), std::string::npos) << missing.output;
   EXPECT_NE(missing.output.find("ramp1.png"), std::string::npos) << missing.output;
   EXPECT_FALSE(fs::exists(dir / "c.exr"));
+}
+
+TEST(MergeCli, PlainDebevecFlagSelectsThePublishedCalibration) {
+  const fs::path dir = test::TempDir();
+  const auto images = RampImages(dir);
+  ExposureStack stack;
+  stack.times = {0.25, 1, 4};
+  for (const auto& p : images) stack.images.push_back(ReadImage(p));
+  auto run = [&](const std::string& extra, const std::string& name) {
+    return test::RunCommand(Exe() + " merge" + Join(images) + " --times 1/4 1 4" + extra +
+                            " --save-response " + Q(dir / name) + " --out " + Q(dir / "o.exr"));
+  };
+  auto max_diff = [](const ResponseCurve& a, const ResponseCurve& b) {
+    double d = 0;
+    for (int c = 0; c < 3; ++c) {
+      for (int z = 0; z < 256; ++z) {
+        d = std::max(d, std::abs(a.log_inverse[c][z] - b.log_inverse[c][z]));
+      }
+    }
+    return d;
+  };
+  const auto robust = run("", "robust.json");
+  ASSERT_EQ(robust.exit_code, 0) << robust.output;
+  const auto plain = run(" --plain-debevec --lambda 30", "plain.json");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  CalibrationOptions old_default;
+  old_default.lambda = 30;
+  const ResponseCurve robust_curve = ReadResponseCurve(dir / "robust.json");
+  const ResponseCurve plain_curve = ReadResponseCurve(dir / "plain.json");
+  EXPECT_LE(max_diff(robust_curve, CalibrateDebevec(stack)), 1e-9);
+  EXPECT_LE(max_diff(plain_curve, CalibrateDebevec(stack, PlainDebevec(old_default))), 1e-9);
+  EXPECT_GT(max_diff(plain_curve, robust_curve), 1e-3);  // the flag changes the curve
+  // Like --lambda, it has no meaning with a given response.
+  const auto both = run(" --plain-debevec --response " + Q(dir / "plain.json"), "x.json");
+  EXPECT_NE(both.exit_code, 0) << both.output;
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
 }
 
 TEST(MergeCli, SaturatedAndBlackStacks) {
