@@ -28,7 +28,8 @@ layout(binding = 2, rgba32f) writeonly uniform image2DArray u_b;
 void main() {
   int i = PointIndex();
   if (i < 0) return;
-  vec3 p = (u_cam_from_world * vec4(PointPosition(i), 1.0)).xyz;
+  Point point = LoadPoint(i);
+  vec3 p = (u_cam_from_world * vec4(point.position, 1.0)).xyz;
   if (p.z <= u_near) return;
   vec2 c = PixelFromCam(p);
   if (!(all(greaterThanEqual(c, vec2(0.0))) && all(lessThan(c, u_size)))) return;
@@ -36,7 +37,7 @@ void main() {
   int layer = 0;
 #if CLASSIFY
   float z1 = DecodeSplatDepth(texelFetch(u_splat_depth, texel, 0).r);
-  bool front = z1 <= 0.0 || p.z <= z1 + u_front_radii * PointRadius(i) + u_front_rel * z1;
+  bool front = z1 <= 0.0 || p.z <= z1 + u_front_radii * point.radius + u_front_rel * z1;
   layer = front ? 0 : 1;
 #endif
   ivec3 t = ivec3(texel, layer);
@@ -45,8 +46,8 @@ void main() {
   imageAtomicMin(u_nearest, t, bits);
 #else
   if (imageLoad(u_nearest, t).r != bits) return;
-  vec3 n = FacingNormal(mat3(u_cam_from_world) * PointNormal(i), p);
-  imageStore(u_a, t, vec4(p, PointRadius(i) * u_intrinsics.y / p.z));
+  vec3 n = FacingNormal(mat3(u_cam_from_world) * point.normal, p);
+  imageStore(u_a, t, vec4(p, point.radius * u_intrinsics.y / p.z));
   imageStore(u_b, t, vec4(n, 1.0));
 #endif
 }

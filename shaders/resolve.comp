@@ -5,15 +5,16 @@
 //  MODE 2 (lechelek):  steps 4-5 of Lechelek et al. 2019 sec. 4: only pixels covered by
 //                      step-1 splats; foreground pull-push where valid, background filling
 //                      the foreground's holes, the step-1 splat depth (and a view-facing
-//                      normal: step 1 writes no normal in this mode) as a last resort. The
-//                      last push of the background pyramid (level 1 to 0) is needed only at
-//                      the pixels of foreground holes (u_push_back): they are appended to a
-//                      list, and MODE 3 pushes them.
+//                      normal: step 1 writes no normal in this mode) as a last resort. MODE 2
+//                      writes the foreground, or the last resort at the foreground's holes,
+//                      which it appends to a list for MODE 3.
 //  MODE 3 (lechelek holes): one invocation per listed pixel (an indirect dispatch sized by
-//                      MODE 2), the background's last push there; where it gives a texel, it
-//                      replaces MODE 2's last-resort output. A separate pass because a CPU
-//                      rasteriser (llvmpipe) runs both sides of a branch for a whole SIMD
-//                      vector: inline, the rarely needed push cost every pixel.
+//                      MODE 2): the background's level-0 texel, else its last push (level 1
+//                      to 0, u_push_back; the pyramid is pushed only down to level 1); where
+//                      that gives a texel, it replaces the last resort. A separate pass
+//                      because a CPU rasteriser (llvmpipe) runs both sides of a branch for a
+//                      whole SIMD vector: inline, the rarely needed background reads and push
+//                      cost every pixel.
 #if MODE == 3
 layout(local_size_x = 64) in;  // kHoleGroupSize
 #else
@@ -65,15 +66,20 @@ void main() {
   uint stride = gl_NumWorkGroups.x * kHoleGroupSize;
   for (uint k = gl_GlobalInvocationID.x; k < h_count; k += stride) {
     ivec2 p = ivec2(h_pixels[k] & 0xFFFFu, h_pixels[k] >> 16);
-    ivec2 base = PushBase(p);
-    ivec2 coarse_size = textureSize(u_back1_a, 0);
-    Texel t[4];
-    for (int i = 0; i < 4; ++i) {
-      ivec2 c = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), coarse_size - 1);
-      t[i].a = texelFetch(u_back1_a, c, 0);
-      t[i].b = texelFetch(u_back1_b, c, 0);
+    Texel back;
+    back.a = texelFetch(u_back_a, p, 0);
+    back.b = texelFetch(u_back_b, p, 0);
+    if (!Valid(back) && u_push_back != 0) {
+      ivec2 base = PushBase(p);
+      ivec2 coarse_size = textureSize(u_back1_a, 0);
+      Texel t[4];
+      for (int i = 0; i < 4; ++i) {
+        ivec2 c = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), coarse_size - 1);
+        t[i].a = texelFetch(u_back1_a, c, 0);
+        t[i].b = texelFetch(u_back1_b, c, 0);
+      }
+      back = PushAverage(t, p, 1.0);
     }
-    Texel back = PushAverage(t, p, 1.0);
     if (!Valid(back)) continue;
     imageStore(u_out_depth, p, vec4(TexelDepth(back, vec2(p) + 0.5)));
     imageStore(u_out_normal, p, vec4(normalize(back.b.xyz), 0.0));
@@ -105,25 +111,16 @@ void main() {
     normal = front.b.xyz;
   }
 #else
-  Texel back;
-  back.a = texelFetch(u_back_a, p, 0);
-  back.b = texelFetch(u_back_b, p, 0);
   if (splat_depth > 0.0) {
-    if (!Valid(front) && !Valid(back) && u_push_back != 0) {
+    if (Valid(front)) {
+      depth = TexelDepth(front, px);
+      normal = front.b.xyz;
+    } else {
       uint k = atomicAdd(h_count, 1u);
       if (k % kHoleGroupSize == 0u && k / kHoleGroupSize < kMaxGroups) {
         atomicAdd(h_groups_x, 1u);
       }
       h_pixels[k] = uint(p.x) | uint(p.y) << 16;
-    }
-    if (Valid(front)) {
-      depth = TexelDepth(front, px);
-      normal = front.b.xyz;
-    } else if (Valid(back)) {
-      depth = TexelDepth(back, px);
-      normal = back.b.xyz;
-      cls = 2u;
-    } else {
       depth = splat_depth;
       normal = -normalize(RayThroughPixel(px));
     }

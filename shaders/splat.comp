@@ -25,10 +25,11 @@ layout(binding = 0, r32ui) uniform uimage2D u_depth;
 void main() {
   int i = PointIndex();
   if (i < 0) return;
-  vec3 p = (u_cam_from_world * vec4(PointPosition(i), 1.0)).xyz;
+  Point point = LoadPoint(i);
+  vec3 p = (u_cam_from_world * vec4(point.position, 1.0)).xyz;
   if (p.z <= u_near) return;
-  vec3 n = FacingNormal(mat3(u_cam_from_world) * PointNormal(i), p);
-  float r_px = PointRadius(i) * u_intrinsics.y / p.z;
+  vec3 n = FacingNormal(mat3(u_cam_from_world) * point.normal, p);
+  float r_px = point.radius * u_intrinsics.y / p.z;
   vec2 c = PixelFromCam(p);
   float half_size = 0.5 * clamp(2.0 * r_px, 1.0, u_max_point_size);
   // The ellipse of InsideEllipse as a quadratic form d^T Q d <= 1 (Q = a a^T / minor^2 +

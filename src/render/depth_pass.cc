@@ -260,7 +260,7 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
   const auto count = static_cast<GLsizei>(points_.size());
   if (options_.raster == PointRaster::kCompute) {
     for (int l = 0; l < layers; ++l) {
-      ClearLayer(buf.level0_a, l, GL_RGBA, GL_FLOAT, nullptr);
+      // Texel a is read only where b's weight marks the texel valid: b alone is cleared.
       ClearLayer(buf.level0_b, l, GL_RGBA, GL_FLOAT, nullptr);
       ClearLayer(buf.level0_nearest, l, GL_RED_INTEGER, GL_UNSIGNED_INT, &kNoSplat);
     }
@@ -422,7 +422,6 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   glBindTextureUnit(7, buf.back.b[back1].id());
   const bool lechelek = mode == DepthMode::kLechelek;
   if (lechelek) {
-    glProgramUniform1i(resolve.id(), 7, push_back_in_resolve && draw ? 1 : 0);
     const GLuint reset[4] = {0, 1, 1, 0};  // no group, no hole yet
     glNamedBufferSubData(buf.holes.id(), 0, sizeof(reset), reset);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.holes.id());
@@ -432,10 +431,11 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   glBindImageTexture(2, target.valid.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
   glBindImageTexture(3, target.classes.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
   glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8), 1);
-  if (lechelek && push_back_in_resolve && draw) {
-    // The background's last push at the listed hole pixels only.
+  if (lechelek && draw) {
+    // The background (and its last push) at the listed foreground holes only.
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glProgramUniform1i(resolve_holes_.id(), 7, push_back_in_resolve ? 1 : 0);
     f.SetCamera(resolve_holes_);
     resolve_holes_.Use();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buf.holes.id());
