@@ -161,14 +161,22 @@ DepthPass::DepthPass(const gl::ShaderLibrary& shaders, DepthPassOptions options)
   GLint align = 16;
   glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
   // Whole points per block, and range offsets (multiples of 32 bytes) on the alignment.
-  const size_t step = static_cast<size_t>(std::max(1, align / std::gcd(align, 32)));
-  max_points_per_dispatch_ = std::max<size_t>(step, static_cast<size_t>(block) / 32 / step * step);
+  dispatch_step_ = static_cast<size_t>(std::max(1, align / std::gcd(align, 32)));
+  max_points_per_dispatch_ = std::max<size_t>(
+      dispatch_step_, static_cast<size_t>(block) / 32 / dispatch_step_ * dispatch_step_);
   for (int i = 0; i <= DepthStepTimes::kSteps; ++i) {
     stamps_.push_back(gl::TimestampQuery::Create());
   }
 }
 
 DepthPass::~DepthPass() = default;
+
+size_t DepthPass::PointsPerDispatch() const {
+  const size_t asked = options_.points_per_dispatch;
+  if (asked == 0) return max_points_per_dispatch_;
+  const size_t aligned = (asked + dispatch_step_ - 1) / dispatch_step_ * dispatch_step_;
+  return std::min(aligned, max_points_per_dispatch_);
+}
 
 void DepthPass::SetPoints(const PointCloud& cloud, float radius_override) {
   points_ = PointBuffer(cloud, radius_override);
@@ -233,12 +241,12 @@ void DepthPass::SplatStep(const Frame& f, Buffers& buf) {
   if (options_.raster == PointRaster::kCompute) {
     f.SetCamera(splat_compute_);
     glBindImageTexture(0, buf.splat_depth.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    DispatchPoints(splat_compute_, points_, f.near, max_points_per_dispatch_);
+    DispatchPoints(splat_compute_, points_, f.near, PointsPerDispatch());
     if (plain) {
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
       f.SetCamera(splat_normal_compute_);
       glBindImageTexture(1, buf.splat_normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-      DispatchPoints(splat_normal_compute_, points_, f.near, max_points_per_dispatch_);
+      DispatchPoints(splat_normal_compute_, points_, f.near, PointsPerDispatch());
     }
     return;
   }
@@ -278,7 +286,7 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
         glProgramUniform1f(p.id(), 6, options_.front_rel);
       }
       if (stage == 1) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-      DispatchPoints(p, points_, f.near, max_points_per_dispatch_);
+      DispatchPoints(p, points_, f.near, PointsPerDispatch());
     }
     return;
   }

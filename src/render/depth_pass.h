@@ -69,6 +69,9 @@ struct DepthPassOptions {
   // Pipeline raster: step 2 in one layered draw when ARB_shader_viewport_layer_array is there
   // (else two draws). The compute raster always fills both layers in one dispatch.
   bool layered_classify = true;
+  // Compute raster: points per dispatch, 0 = as many as one storage block holds (the cloud is
+  // split into several dispatches beyond that); smaller only to test the split.
+  size_t points_per_dispatch = 0;
   // Measure each step: GL timestamp queries (GPU time) and wall time with glFinish() after
   // each step (which serialises the frame: use for per-step figures only).
   bool profile = false;
@@ -128,7 +131,10 @@ class DepthPass {
   std::vector<gl::TimestampQuery> stamps_;
   DepthStepTimes times_;
   float max_point_size_ = 64.0f;
+  size_t PointsPerDispatch() const;
+
   size_t max_points_per_dispatch_ = 1;  // points in one storage block (compute raster)
+  size_t dispatch_step_ = 1;            // a range's first point: a multiple of this
 };
 
 }  // namespace hdribr::render

@@ -241,6 +241,24 @@ TEST_F(DepthPassTest, ComputeAndPipelineRastersAgree) {
   }
 }
 
+// Clouds beyond one storage block (4M points on llvmpipe) are rasterised in several
+// dispatches over ranges of the point buffer: forced here with small ranges, the output is the
+// same as in one dispatch.
+TEST_F(DepthPassTest, ComputeRasterSplitIntoDispatchesGivesTheSameOutput) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  DepthPass pass(*shaders_);
+  pass.SetPoints(scene.Sample(10000));
+  const Camera cam = test::TestCamera(128);
+  for (DepthMode mode : AllDepthModes()) {
+    pass.options().points_per_dispatch = 0;
+    const DepthImages whole = Render(pass, cam, AccuracyViews()[1], mode);
+    pass.options().points_per_dispatch = 999;  // 11 ranges, the last one partial
+    const DepthImages split = Render(pass, cam, AccuracyViews()[1], mode);
+    EXPECT_GT(cv::countNonZero(whole.depth), 128 * 128 / 2) << DepthModeName(mode);
+    EXPECT_EQ(cv::norm(whole.depth, split.depth, cv::NORM_INF), 0.0) << DepthModeName(mode);
+  }
+}
+
 TEST_F(DepthPassTest, EmptyCloud) {
   DepthPass pass(*shaders_);
   pass.SetPoints(PointCloud{});
