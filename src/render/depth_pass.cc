@@ -266,6 +266,15 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
   const bool classify = f.mode == DepthMode::kLechelek;
   const int layers = classify ? 2 : 1;  // marroquim reads the foreground pyramid only
   const auto count = static_cast<GLsizei>(points_.size());
+  // Camera and (lechelek) classification uniforms, then the program in use.
+  auto use = [&](const gl::Program& p) {
+    f.SetCamera(p);
+    if (classify) {
+      glProgramUniform1f(p.id(), 5, options_.front_radii);
+      glProgramUniform1f(p.id(), 6, options_.front_rel);
+    }
+    p.Use();
+  };
   if (options_.raster == PointRaster::kCompute) {
     for (int l = 0; l < layers; ++l) {
       // Texel a is read only where b's weight marks the texel valid: b alone is cleared.
@@ -280,11 +289,7 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
     glBindImageTexture(2, buf.level0_b.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     for (int stage = 0; stage < 2; ++stage) {
       const gl::Program& p = project_compute_[classify ? 1 : 0][stage];
-      f.SetCamera(p);
-      if (classify) {
-        glProgramUniform1f(p.id(), 5, options_.front_radii);
-        glProgramUniform1f(p.id(), 6, options_.front_rel);
-      }
+      use(p);
       if (stage == 1) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
       DispatchPoints(p, points_, f.near, PointsPerDispatch());
     }
@@ -301,27 +306,20 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
   points_.Bind();
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
   glBindTextureUnit(0, buf.splat_depth.id());
-  auto set_classify = [&](const gl::Program& p) {
-    f.SetCamera(p);
-    glProgramUniform1f(p.id(), 5, options_.front_radii);
-    glProgramUniform1f(p.id(), 6, options_.front_rel);
-    p.Use();
-  };
   if (!classify) {
     buf.front_fb.Bind(f.width, f.height);
-    f.SetCamera(project_all_);
-    project_all_.Use();
+    use(project_all_);
     glDrawArrays(GL_POINTS, 0, count);
   } else if (layered) {
     buf.layered_fb.Bind(f.width, f.height);  // one draw: front -> layer 0, back -> layer 1
-    set_classify(project_layered_);
+    use(project_layered_);
     glDrawArrays(GL_POINTS, 0, count);
   } else {
     buf.front_fb.Bind(f.width, f.height);
-    set_classify(project_front_);
+    use(project_front_);
     glDrawArrays(GL_POINTS, 0, count);
     buf.back_fb.Bind(f.width, f.height);
-    set_classify(project_back_);
+    use(project_back_);
     glDrawArrays(GL_POINTS, 0, count);
   }
 }
@@ -380,8 +378,6 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
     wall[i + 1] = Clock::now();
   };
 
-  const DepthMode mode = f.mode;
-  const bool draw = f.draw;
   glEnable(GL_PROGRAM_POINT_SIZE);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -406,9 +402,9 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   // The background's last push (level 1 to 0) is left to the resolve, which needs it only
   // where the foreground has a hole.
   const bool push_back_in_resolve = buf.back.levels() >= 2;
-  if (draw && mode != DepthMode::kPlain) {
+  if (f.draw && f.mode != DepthMode::kPlain) {
     pull_push_.Process(buf.front, f.intrinsics);
-    if (mode == DepthMode::kLechelek) {
+    if (f.mode == DepthMode::kLechelek) {
       pull_push_.Process(buf.back, f.intrinsics, push_back_in_resolve ? 1 : 0);
     }
   }
@@ -416,7 +412,7 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
 
   // Steps 4-5: coverage mask and merge.
   begin(3);
-  const gl::Program& resolve = resolve_[static_cast<int>(mode)];
+  const gl::Program& resolve = resolve_[static_cast<int>(f.mode)];
   f.SetCamera(resolve);
   resolve.Use();
   glBindTextureUnit(0, buf.splat_depth.id());
@@ -428,7 +424,7 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   const size_t back1 = push_back_in_resolve ? 1 : 0;
   glBindTextureUnit(6, buf.back.a[back1].id());
   glBindTextureUnit(7, buf.back.b[back1].id());
-  const bool lechelek = mode == DepthMode::kLechelek;
+  const bool lechelek = f.mode == DepthMode::kLechelek;
   if (lechelek) {
     const GLuint reset[4] = {0, 1, 1, 0};  // no group, no hole yet
     glNamedBufferSubData(buf.holes.id(), 0, sizeof(reset), reset);
@@ -439,7 +435,7 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   glBindImageTexture(2, target.valid.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
   glBindImageTexture(3, target.classes.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8UI);
   glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8), 1);
-  if (lechelek && draw) {
+  if (lechelek && f.draw) {
     // The background (and its last push) at the listed foreground holes only.
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
