@@ -29,7 +29,7 @@ void main() {
   v_n_cam = FacingNormal(mat3(u_cam_from_world) * a_normal, p);
   float z = max(p.z, 1e-6);
   v_r_px = a_radius * u_intrinsics.y / z;
-  gl_Position = u_clip_from_cam * vec4(p, 1.0);
+  gl_Position = PointClipPosition(p);
   gl_PointSize = 1.0;
 #if CLASSIFY != 0
   if (p.z > 0.0) {

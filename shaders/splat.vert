@@ -13,7 +13,7 @@ void main() {
   vec3 p = (u_cam_from_world * vec4(a_position, 1.0)).xyz;
   v_p_cam = p;
   v_n_cam = FacingNormal(mat3(u_cam_from_world) * a_normal, p);
-  gl_Position = u_clip_from_cam * vec4(p, 1.0);
+  gl_Position = PointClipPosition(p);
   float z = max(p.z, 1e-6);
   v_r_px = a_radius * u_intrinsics.y / z;
   v_center_px = PixelFromCam(vec3(p.xy, z));

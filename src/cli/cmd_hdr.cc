@@ -60,20 +60,6 @@ int ResolveSeries(const Scene& scene, const std::string& text) {
                    ", or their index)");
 }
 
-// RMS of exp(g - g_true - offset) - 1 over 10..245 DN (offset: mean log
-// difference).
-double RmsLinearError(const ResponseCurve& got, const ResponseCurve& truth, int c) {
-  double offset = 0;
-  for (int z = 10; z <= 245; ++z) offset += got.log_inverse[c][z] - truth.log_inverse[c][z];
-  offset /= 236.0;
-  double sum = 0;
-  for (int z = 10; z <= 245; ++z) {
-    const double e = std::exp(got.log_inverse[c][z] - truth.log_inverse[c][z] - offset) - 1.0;
-    sum += e * e;
-  }
-  return std::sqrt(sum / 236.0);
-}
-
 void ReportTruth(const render::HdrPhotoSet& set, const fs::path& capture) {
   const ResponseCurve response = ReadResponseCurve(set.folder / set.response_file);
   const fs::path true_response = capture / "calib" / "response.json";

@@ -103,4 +103,18 @@ void WriteResponseCurve(const fs::path& path, const ResponseCurve& curve) {
   WriteFileAtomic(path, s.str());
 }
 
+double RmsLinearError(const ResponseCurve& got, const ResponseCurve& truth, int c, int lo) {
+  HDRIBR_CHECK(c >= 0 && c < 3 && lo >= 0 && lo <= 245);
+  const int n = 245 - lo + 1;
+  double offset = 0;
+  for (int z = lo; z <= 245; ++z) offset += got.log_inverse[c][z] - truth.log_inverse[c][z];
+  offset /= n;
+  double sum = 0;
+  for (int z = lo; z <= 245; ++z) {
+    const double e = std::exp(got.log_inverse[c][z] - truth.log_inverse[c][z] - offset) - 1.0;
+    sum += e * e;
+  }
+  return std::sqrt(sum / n);
+}
+
 }  // namespace hdribr

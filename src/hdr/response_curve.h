@@ -26,4 +26,9 @@ ResponseCurve ReadResponseCurve(const std::filesystem::path& path);
 // Writes it atomically. The curve must be valid (IsValid()).
 void WriteResponseCurve(const std::filesystem::path& path, const ResponseCurve& curve);
 
+// Error of a recovered curve against a true one in channel c: the RMS over lo..245 DN of
+// exp(g - g_true - offset) - 1, offset the mean log difference there (a response is known up
+// to a scale), i.e. the relative error of the linear exposure the curve gives back.
+double RmsLinearError(const ResponseCurve& got, const ResponseCurve& truth, int c, int lo = 10);
+
 }  // namespace hdribr

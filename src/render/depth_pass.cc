@@ -190,7 +190,7 @@ struct DepthPass::Frame {
   Eigen::Matrix4f cam_from_world, clip_from_cam;
   float intrinsics[4];  // fx, fy, cx, cy in target pixels
   float size[2];
-  float near;
+  float near, far;
   float max_point_size;
 
   // Uniforms of shaders/camera.glsl (and the compute raster's near plane).
@@ -201,6 +201,8 @@ struct DepthPass::Frame {
     glProgramUniform2fv(p.id(), 3, 1, size);
     glProgramUniform1f(p.id(), 4, max_point_size);
   }
+  // The clip range of the point draws (shaders/points.glsl; graphics pipeline only).
+  void SetDepthRange(const gl::Program& p) const { glProgramUniform2f(p.id(), 9, near, far); }
 };
 
 namespace {
@@ -256,6 +258,7 @@ void DepthPass::SplatStep(const Frame& f, Buffers& buf) {
   glClearNamedFramebufferfv(buf.splat_fb.id(), GL_DEPTH, 0, &one);
   buf.splat_fb.Bind(f.width, f.height);
   f.SetCamera(splat_);
+  f.SetDepthRange(splat_);
   splat_.Use();
   points_.Bind();
   glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(points_.size()));
@@ -306,21 +309,19 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
   points_.Bind();
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
   glBindTextureUnit(0, buf.splat_depth.id());
+  auto draw = [&](const gl::Framebuffer& fb, const gl::Program& p) {
+    fb.Bind(f.width, f.height);
+    f.SetDepthRange(p);
+    use(p);
+    glDrawArrays(GL_POINTS, 0, count);
+  };
   if (!classify) {
-    buf.front_fb.Bind(f.width, f.height);
-    use(project_all_);
-    glDrawArrays(GL_POINTS, 0, count);
+    draw(buf.front_fb, project_all_);
   } else if (layered) {
-    buf.layered_fb.Bind(f.width, f.height);  // one draw: front -> layer 0, back -> layer 1
-    use(project_layered_);
-    glDrawArrays(GL_POINTS, 0, count);
+    draw(buf.layered_fb, project_layered_);  // one draw: front -> layer 0, back -> layer 1
   } else {
-    buf.front_fb.Bind(f.width, f.height);
-    use(project_front_);
-    glDrawArrays(GL_POINTS, 0, count);
-    buf.back_fb.Bind(f.width, f.height);
-    use(project_back_);
-    glDrawArrays(GL_POINTS, 0, count);
+    draw(buf.front_fb, project_front_);
+    draw(buf.back_fb, project_back_);
   }
 }
 
@@ -352,9 +353,9 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   f.draw = points_.size() > 0 && zmax > 0.0;
   f.width = width;
   f.height = height;
-  const float far = static_cast<float>(f.draw ? zmax * 1.01 : 1.0);
-  f.near = far * 1e-5f;
-  f.clip_from_cam = ClipFromCam(cam, f.near, far);
+  f.far = static_cast<float>(f.draw ? zmax * 1.01 : 1.0);
+  f.near = f.far * 1e-5f;
+  f.clip_from_cam = ClipFromCam(cam, f.near, f.far);
   f.cam_from_world = cam_from_world.Matrix4().cast<float>();
   const double intr[4] = {cam.fx(), cam.fy(), cam.cx(), cam.cy()};
   for (int i = 0; i < 4; ++i) f.intrinsics[i] = static_cast<float>(intr[i]);

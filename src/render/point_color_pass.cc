@@ -114,6 +114,7 @@ PointColorImages PointColorPass::Render(const Camera& camera, const Rigid3d& cam
     glProgramUniform4fv(p, 2, 1, intr);
     glProgramUniform2fv(p, 3, 1, size);
     glProgramUniform1f(p, 4, max_point_size_);
+    glProgramUniform2f(p, 9, near, far);  // shaders/points.glsl
     glEnable(GL_PROGRAM_POINT_SIZE);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

@@ -6,14 +6,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
-#include "hdr/response_error.h"
+#include "hdr/response_curve.h"
 #include "hdr/synthetic_stack.h"
 
 namespace hdribr {
 namespace {
 
 using test::MedianAbsLogRatio;
-using test::RmsLinearError;
 using test::SyntheticRadiance;
 using test::SyntheticResponse;
 using test::SyntheticStack;

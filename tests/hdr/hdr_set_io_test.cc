@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 #include "hdr/radiance_compare.h"
-#include "hdr/response_error.h"
+#include "hdr/response_curve.h"
 #include "io/exr.h"
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
@@ -21,7 +21,6 @@
 namespace hdribr::render {
 namespace {
 namespace fs = std::filesystem;
-using test::RmsLinearError;
 
 class HdrSetIoTest : public ::testing::Test {
  protected:

@@ -15,7 +15,7 @@
 #include "gl/context.h"
 #include "gl/debug.h"
 #include "hdr/radiance_compare.h"
-#include "hdr/response_error.h"
+#include "hdr/response_curve.h"
 #include "io/colmap_model.h"
 #include "io/exr.h"
 #include "io/workspace.h"
@@ -26,7 +26,6 @@
 namespace hdribr::render {
 namespace {
 namespace fs = std::filesystem;
-using test::RmsLinearError;
 
 bool AllFinite(const cv::Mat& m) { return cv::checkRange(m); }
 
