@@ -352,29 +352,25 @@ cv::Mat MergeDebevec(const ExposureStack& stack, const ResponseCurve& response, 
         const float* t0 = &term[(jj * 3 + 0) * kLevels];
         const float* t1 = t0 + kLevels;
         const float* t2 = t1 + kLevels;
+        // Equation 7's sums for pixel x (inlined into both loops below).
+        const auto add = [&](int x) {
+          const uint8_t b = px[3 * x], g = px[3 * x + 1], r = px[3 * x + 2];
+          num[3 * x] += t0[b];
+          num[3 * x + 1] += t1[g];
+          num[3 * x + 2] += t2[r];
+          den[3 * x] += weight[b];
+          den[3 * x + 1] += weight[g];
+          den[3 * x + 2] += weight[r];
+        };
         if (!has_masks) {
-          for (int x = 0; x < w; ++x) {
-            const uint8_t b = px[3 * x], g = px[3 * x + 1], r = px[3 * x + 2];
-            num[3 * x] += t0[b];
-            num[3 * x + 1] += t1[g];
-            num[3 * x + 2] += t2[r];
-            den[3 * x] += weight[b];
-            den[3 * x + 1] += weight[g];
-            den[3 * x + 2] += weight[r];
-          }
+          for (int x = 0; x < w; ++x) add(x);
         } else {
           const uint8_t* m = stack.masks[order[jj]].ptr<uint8_t>(y);
           for (int x = 0; x < w; ++x) {
             if (!m[x]) continue;
             if (first[x] < 0) first[x] = jj;
             last[x] = jj;
-            const uint8_t b = px[3 * x], g = px[3 * x + 1], r = px[3 * x + 2];
-            num[3 * x] += t0[b];
-            num[3 * x + 1] += t1[g];
-            num[3 * x + 2] += t2[r];
-            den[3 * x] += weight[b];
-            den[3 * x + 1] += weight[g];
-            den[3 * x + 2] += weight[r];
+            add(x);
           }
         }
       }
