@@ -13,9 +13,8 @@ layout(local_size_x = 64) in;
 #include "splat_depth.glsl"
 
 #if CLASSIFY
+#include "classify.glsl"
 layout(binding = 0) uniform usampler2D u_splat_depth;
-layout(location = 5) uniform float u_front_radii;  // tolerance in splat radii
-layout(location = 6) uniform float u_front_rel;    // plus this fraction of the depth
 #endif
 #if STAGE == 1
 layout(binding = 0, r32ui) uniform uimage2DArray u_nearest;
@@ -37,8 +36,7 @@ void main() {
   int layer = 0;
 #if CLASSIFY
   float z1 = DecodeSplatDepth(texelFetch(u_splat_depth, texel, 0).r);
-  bool front = z1 <= 0.0 || p.z <= z1 + u_front_radii * point.radius + u_front_rel * z1;
-  layer = front ? 0 : 1;
+  layer = IsFront(p.z, point.radius, z1) ? 0 : 1;
 #endif
   ivec3 t = ivec3(texel, layer);
   uint bits = EncodeSplatDepth(p.z);

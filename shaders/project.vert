@@ -14,9 +14,8 @@
 #endif
 
 #if CLASSIFY != 0
+#include "classify.glsl"
 layout(binding = 0) uniform usampler2D u_splat_depth;  // step-1 depth (splat_depth.glsl)
-layout(location = 5) uniform float u_front_radii;     // tolerance in splat radii
-layout(location = 6) uniform float u_front_rel;       // plus this fraction of the depth
 #endif
 
 flat out vec3 v_p_cam;
@@ -36,7 +35,7 @@ void main() {
     ivec2 texel = ivec2(floor(PixelFromCam(p)));
     bool inside = all(greaterThanEqual(texel, ivec2(0))) && all(lessThan(texel, ivec2(u_size)));
     float z1 = inside ? DecodeSplatDepth(texelFetch(u_splat_depth, texel, 0).r) : 0.0;
-    bool front = z1 <= 0.0 || p.z <= z1 + u_front_radii * a_radius + u_front_rel * z1;
+    bool front = IsFront(p.z, a_radius, z1);
 #if CLASSIFY == 3
     gl_Layer = front ? 0 : 1;
 #else

@@ -113,6 +113,7 @@ class DepthPass {
   Buffers& BuffersFor(int width, int height);
   void SplatStep(const Frame& f, Buffers& buf);
   void ProjectStep(const Frame& f, Buffers& buf);
+  size_t PointsPerDispatch() const;  // compute raster: points per dispatch (options, limits)
 
   DepthPassOptions options_;
   gl::Program splat_;
@@ -131,8 +132,6 @@ class DepthPass {
   std::vector<gl::TimestampQuery> stamps_;
   DepthStepTimes times_;
   float max_point_size_ = 64.0f;
-  size_t PointsPerDispatch() const;
-
   size_t max_points_per_dispatch_ = 1;  // points in one storage block (compute raster)
   size_t dispatch_step_ = 1;            // a range's first point: a multiple of this
 };
