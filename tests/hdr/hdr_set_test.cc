@@ -12,8 +12,7 @@
 #include <memory>
 
 #include "core/error.h"
-#include "gl/context.h"
-#include "gl/debug.h"
+#include "gl_test_util.h"
 #include "hdr/radiance_compare.h"
 #include "hdr/response_curve.h"
 #include "io/colmap_model.h"
@@ -34,9 +33,10 @@ double Median(std::vector<double> v) {
   return v.empty() ? INFINITY : v[v.size() / 2];
 }
 
-class HdrSetTest : public ::testing::Test {
+class HdrSetTest : public test::GlSuite {
  protected:
   static void SetUpTestSuite() {
+    GlSuite::SetUpTestSuite();
     dir_ = new fs::path(test::TempDir("hdr_set") / "capture");
     synth::CaptureOptions opt;
     opt.series = 3;
@@ -47,16 +47,12 @@ class HdrSetTest : public ::testing::Test {
     opt.threads = 2;
     synth::WriteCapture(opt, *dir_);
     scene_ = new Scene(LoadWorkspace(*dir_ / "workspace"));
-    context_ = new gl::HeadlessContext();
-    shaders_ = new gl::ShaderLibrary();
   }
   static void TearDownTestSuite() {
-    delete shaders_;
-    delete context_;
     delete scene_;
     delete dir_;
+    GlSuite::TearDownTestSuite();
   }
-  void TearDown() override { EXPECT_EQ(gl::DrainGlErrors(), ""); }
 
   // Median |log ratio| vs GT radiance of each reference view of `set`, over GT-valid pixels.
   static std::vector<double> ReferenceErrors(const HdrPhotoSet& set, bool per_channel) {
@@ -74,13 +70,9 @@ class HdrSetTest : public ::testing::Test {
 
   static fs::path* dir_;
   static Scene* scene_;
-  static gl::HeadlessContext* context_;
-  static gl::ShaderLibrary* shaders_;
 };
 fs::path* HdrSetTest::dir_;
 Scene* HdrSetTest::scene_;
-gl::HeadlessContext* HdrSetTest::context_;
-gl::ShaderLibrary* HdrSetTest::shaders_;
 
 TEST_F(HdrSetTest, CalibratedSetMeetsResponseAndRadianceTargets) {
   HdrPhotoSetOptions opt;

@@ -9,30 +9,15 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
-#include "gl/context.h"
-#include "gl/debug.h"
+#include "gl_test_util.h"
 #include "hdr/tonemap.h"
 
 namespace hdribr::render {
 namespace {
 
-class TonemapPassTest : public ::testing::Test {
+class TonemapPassTest : public test::GlSuite {
  protected:
-  static void SetUpTestSuite() {
-    context_ = std::make_unique<gl::HeadlessContext>();
-    shaders_ = std::make_unique<gl::ShaderLibrary>();
-  }
-  static void TearDownTestSuite() {
-    shaders_.reset();
-    context_.reset();
-  }
-  void TearDown() override { EXPECT_EQ(gl::DrainGlErrors(), ""); }
-
-  static std::unique_ptr<gl::HeadlessContext> context_;
-  static std::unique_ptr<gl::ShaderLibrary> shaders_;
 };
-std::unique_ptr<gl::HeadlessContext> TonemapPassTest::context_;
-std::unique_ptr<gl::ShaderLibrary> TonemapPassTest::shaders_;
 
 // RGBA32F texture from a BGR radiance map; alpha = validity.
 gl::Texture Upload(const cv::Mat& bgr, const cv::Mat& valid) {

@@ -16,19 +16,7 @@
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
-
-// Runs fn, expects an InputError whose message contains every needle.
-template <typename Fn>
-void ExpectInputError(Fn fn, std::initializer_list<std::string> needles) {
-  try {
-    fn();
-    ADD_FAILURE() << "no InputError; expected one containing '" << *needles.begin() << "'";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    for (const auto& n : needles) EXPECT_NE(msg.find(n), std::string::npos) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
-  }
-}
+using test::ExpectInputError;
 
 void WriteText(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 

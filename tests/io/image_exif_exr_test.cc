@@ -17,17 +17,7 @@
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
-
-template <typename Fn>
-void ExpectInputError(Fn fn, std::initializer_list<std::string> needles) {
-  try {
-    fn();
-    ADD_FAILURE() << "no InputError; expected one containing '" << *needles.begin() << "'";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    for (const auto& n : needles) EXPECT_NE(msg.find(n), std::string::npos) << msg;
-  }
-}
+using test::ExpectInputError;
 
 cv::Mat Pattern(int w, int h) {
   cv::Mat m(h, w, CV_8UC3);

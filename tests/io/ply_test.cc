@@ -15,6 +15,7 @@
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
+using test::ExpectInputError;
 
 PointCloud MakeCloud(int n, bool normals, bool colors, bool radii) {
   PointCloud c;
@@ -48,17 +49,6 @@ void ExpectCloudsEqual(const PointCloud& a, const PointCloud& b) {
     if (a.HasRadii() && b.HasRadii()) {
       ASSERT_EQ(a.radii[i], b.radii[i]) << i;
     }
-  }
-}
-
-template <typename Fn>
-void ExpectInputError(Fn fn, std::initializer_list<std::string> needles) {
-  try {
-    fn();
-    ADD_FAILURE() << "no InputError; expected one containing '" << *needles.begin() << "'";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    for (const auto& n : needles) EXPECT_NE(msg.find(n), std::string::npos) << msg;
   }
 }
 

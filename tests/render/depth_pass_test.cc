@@ -10,8 +10,7 @@
 #include "analytic_scene.h"
 #include "core/error.h"
 #include "depth_compare.h"
-#include "gl/context.h"
-#include "gl/debug.h"
+#include "gl_test_util.h"
 #include "render/photo_depth_maps.h"
 #include "render/readback.h"
 
@@ -20,18 +19,8 @@ namespace {
 
 using test::AnalyticScene;
 
-class DepthPassTest : public ::testing::Test {
+class DepthPassTest : public test::GlSuite {
  protected:
-  static void SetUpTestSuite() {
-    context_ = std::make_unique<gl::HeadlessContext>();
-    shaders_ = std::make_unique<gl::ShaderLibrary>();
-  }
-  static void TearDownTestSuite() {
-    shaders_.reset();
-    context_.reset();
-  }
-  void TearDown() override { EXPECT_EQ(gl::DrainGlErrors(), ""); }
-
   // Depth of `cloud` seen by camera/pose in `mode`, read back.
   DepthImages Render(DepthPass& pass, const Camera& camera, const Rigid3d& cam_from_world,
                      DepthMode mode) {
@@ -40,12 +29,7 @@ class DepthPassTest : public ::testing::Test {
     pass.Process(camera, cam_from_world, target);
     return ReadDepthTarget(target);
   }
-
-  static std::unique_ptr<gl::HeadlessContext> context_;
-  static std::unique_ptr<gl::ShaderLibrary> shaders_;
 };
-std::unique_ptr<gl::HeadlessContext> DepthPassTest::context_;
-std::unique_ptr<gl::ShaderLibrary> DepthPassTest::shaders_;
 
 // Views used for accuracy: the capture view (origin, looking +z) and two novel views.
 std::vector<Rigid3d> AccuracyViews() {
