@@ -18,7 +18,6 @@
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
-#include "io/atomic_file.h"
 #include "render/renderer.h"
 
 namespace hdribr::cli {
@@ -95,8 +94,10 @@ int Run(const BenchRenderOptions& opt) {
   const PointCloud cloud = MakeBenchCloud(static_cast<size_t>(opt.points), DomeBenchScene());
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
-  std::printf("%-10s %6s %5s %10s %10s %10s %10s %8s\n", "size", "photos", "K", "depth_ms",
-              "blend_ms", "total_ms", "wall_ms", "valid%");
+  // The table goes to stdout when the JSON goes to a file, else to stderr.
+  FILE* table = opt.json.empty() ? stderr : stdout;
+  std::fprintf(table, "%-10s %6s %5s %10s %10s %10s %10s %8s\n", "size", "photos", "K", "depth_ms",
+               "blend_ms", "total_ms", "wall_ms", "valid%");
   for (int count : photo_counts) {
     std::vector<cv::Mat> images;
     const Scene scene = MakeScene(count, pw, ph, cloud, images);
@@ -129,10 +130,10 @@ int Run(const BenchRenderOptions& opt) {
         const double mean_count = cv::countNonZero(im.valid) ? cv::mean(im.count, im.valid)[0] : 0;
         char size_text[32];
         std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
-        std::printf("%-10s %6d %5s %10.1f %10.1f %10.1f %10.1f %8.1f\n", size_text, count,
-                    k == 0 || k >= count ? "all" : std::to_string(k).c_str(), depth_ms, blend_ms,
-                    depth_ms + blend_ms, wall_ms, valid);
-        std::fflush(stdout);
+        std::fprintf(table, "%-10s %6d %5s %10.1f %10.1f %10.1f %10.1f %8.1f\n", size_text, count,
+                     k == 0 || k >= count ? "all" : std::to_string(k).c_str(), depth_ms, blend_ms,
+                     depth_ms + blend_ms, wall_ms, valid);
+        std::fflush(table);
         results.push_back({{"width", w},
                            {"height", h},
                            {"photos", count},
@@ -154,10 +155,7 @@ int Run(const BenchRenderOptions& opt) {
                               {"renderer", context.Renderer()},
                               {"note", "GPU times from GL timestamp queries; wall = CPU clock"},
                               {"results", results}};
-  if (!opt.json.empty()) {
-    WriteFileAtomic(opt.json, doc.dump(2) + "\n");
-    std::printf("wrote %s\n", opt.json.c_str());
-  }
+  EmitJson(opt.json, doc);
   return 0;
 }
 
@@ -180,7 +178,7 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
       ->default_val(opt->photo_size);
   sub.add_option("--frames", opt->frames, "Timed frames per configuration")
       ->default_val(opt->frames);
-  sub.add_option("--json", opt->json, "Also write the results as JSON to this file");
+  sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
   return [opt] { return Run(*opt); };
 }
 

@@ -1,4 +1,5 @@
 // hdribr: point-cloud HDR image-based rendering. A table of subcommands (see command.h).
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -50,6 +51,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // Log lines go to stderr: stdout carries the data of the commands that print it (JSON).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("hdribr"));
   spdlog::set_pattern("[%H:%M:%S.%e] %^%l%$ %v");
   spdlog::set_level(verbose ? spdlog::level::debug
                             : (quiet ? spdlog::level::warn : spdlog::level::info));
