@@ -87,6 +87,31 @@ void main() {
   }
 }
 #else
+#if MODE == 2
+// Depth of a step-1 pinhole: a pixel that no splat covers but whose 8 neighbours all are, but
+// for at most one, lies in a gap between the splats of one surface (their radii, from the
+// mean spacing of the nearest points, leave rare gaps where the points are sparsest), not
+// between two surfaces; it counts as covered, with the nearest neighbouring splat depth as
+// its last resort. 0 for any other pixel.
+float PinholeDepth(ivec2 p) {
+  int missing = 0;
+  float nearest = 0.0;
+  for (int i = 0; i < 9; ++i) {
+    ivec2 q = p + ivec2(i % 3 - 1, i / 3 - 1);
+    if (i == 4) continue;
+    float d = all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(u_size)))
+                  ? DecodeSplatDepth(texelFetch(u_splat_depth, q, 0).r)
+                  : 0.0;
+    if (d > 0.0) {
+      nearest = nearest > 0.0 ? min(nearest, d) : d;
+    } else {
+      ++missing;
+    }
+  }
+  return missing <= 1 ? nearest : 0.0;
+}
+#endif
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, ivec2(u_size)))) return;
@@ -111,6 +136,7 @@ void main() {
     normal = front.b.xyz;
   }
 #else
+  if (splat_depth <= 0.0) splat_depth = PinholeDepth(p);
   if (splat_depth > 0.0) {
     if (Valid(front)) {
       depth = TexelDepth(front, px);

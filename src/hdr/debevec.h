@@ -17,9 +17,9 @@ double HatWeight(int z);
 // so lambda goes with samples. Measured in docs/algorithms.md ("HDR: response calibration"):
 // on the synthetic captures (3 series, 2 stops apart) the flat-sample selection, the trimmed
 // refit and lambda 60 bring the response from renders from 0.60 / 0.24 / 0.15 RMS (10-245 DN,
-// B/G/R) to 0.043 / 0.014 / 0.018, and on memorial they keep the curve monotonic (median log
-// ratio vs OpenCV 0.070 -> 0.048). Debevec's plain method: kCode, flat_fraction 1, trim 0 (lambda
-// 30 was the old default).
+// B/G/R) to 0.021-0.043 / 0.013-0.014 / 0.012-0.018, and on memorial they keep the curve monotonic
+// (median log ratio vs OpenCV 0.070 -> 0.048). Debevec's plain method: kCode, flat_fraction 1, trim
+// 0 (lambda 30 was the old default).
 struct CalibrationOptions {
   double lambda = 60.0;  // smoothness weight (Debevec's lambda)
   int samples = 1000;    // pixel locations per channel, spread over intensities and the image

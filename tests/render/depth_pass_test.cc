@@ -95,6 +95,48 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
   }
 }
 
+TEST_F(DepthPassTest, StepOnePinholesAreCoveredGapsAreNot) {
+  // One point per pixel centre of a plane at z = 2 whose splats cover only their own pixel,
+  // with points left out: single pixels and a pair (pinholes: every uncovered pixel has at most
+  // one uncovered neighbour) and a run of three (its middle has two). lechelek fills the
+  // pinholes from the foreground pull-push and keeps the run's middle and the plane's outside
+  // invalid; plain (step 1 alone) leaves every left-out pixel invalid.
+  const Camera cam = test::TestCamera(64);
+  const std::vector<cv::Point> pinholes = {{20, 20}, {40, 25}, {30, 40}, {31, 40}};
+  const std::vector<cv::Point> run = {{20, 50}, {21, 50}, {22, 50}};
+  const auto left_out = [&](int x, int y) {
+    for (const auto& list : {pinholes, run}) {
+      for (const cv::Point& q : list) {
+        if (q.x == x && q.y == y) return true;
+      }
+    }
+    return false;
+  };
+  PointCloud pc;
+  for (int y = 8; y < 56; ++y) {
+    for (int x = 8; x < 56; ++x) {
+      if (left_out(x, y)) continue;
+      pc.positions.push_back((2.0 * cam.CamFromPixel({x + 0.5, y + 0.5})).cast<float>());
+      pc.normals.push_back(Eigen::Vector3f(0, 0, -1));
+      pc.radii.push_back(static_cast<float>(0.3 * 2.0 / cam.fx()));  // 0.3 px
+    }
+  }
+  DepthPass pass(*shaders_);
+  pass.SetPoints(pc);
+  const DepthImages plain = Render(pass, cam, Rigid3d(), DepthMode::kPlain);
+  const DepthImages lechelek = Render(pass, cam, Rigid3d(), DepthMode::kLechelek);
+  for (const cv::Point& q : pinholes) {
+    EXPECT_EQ(plain.valid.at<uint8_t>(q), 0) << q;
+    EXPECT_EQ(lechelek.valid.at<uint8_t>(q), 255) << q;
+    EXPECT_NEAR(lechelek.depth.at<float>(q) / 2.0f, 1.0f, 0.01f) << q;
+  }
+  EXPECT_EQ(plain.valid.at<uint8_t>(run[1]), 0);
+  EXPECT_EQ(lechelek.valid.at<uint8_t>(run[1]), 0);
+  // The plane is 48 x 48 pixels less the left-out ones, the run's middle invalid in lechelek.
+  EXPECT_EQ(cv::countNonZero(plain.valid), 48 * 48 - 7);
+  EXPECT_EQ(cv::countNonZero(lechelek.valid), 48 * 48 - 1);
+}
+
 TEST_F(DepthPassTest, ClassesOfTwoLayers) {
   // A near point (z = 2, splat radius about 2 px) in front of the centre of a far disc (z = 4,
   // radius about 20 px): in step 2 the far point is background (its centre is hidden), the
