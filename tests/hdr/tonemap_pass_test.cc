@@ -15,9 +15,7 @@
 namespace hdribr::render {
 namespace {
 
-class TonemapPassTest : public test::GlSuite {
- protected:
-};
+class TonemapPassTest : public test::GlSuite {};
 
 // RGBA32F texture from a BGR radiance map; alpha = validity.
 gl::Texture Upload(const cv::Mat& bgr, const cv::Mat& valid) {
