@@ -97,8 +97,8 @@ float PinholeDepth(ivec2 p) {
   int missing = 0;
   float nearest = 0.0;
   for (int i = 0; i < 9; ++i) {
+    if (i == 4) continue;  // p itself
     ivec2 q = p + ivec2(i % 3 - 1, i / 3 - 1);
-    if (i == 4) continue;
     float d = all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(u_size)))
                   ? DecodeSplatDepth(texelFetch(u_splat_depth, q, 0).r)
                   : 0.0;

@@ -36,4 +36,6 @@ void EmitJson(const std::string& path, const nlohmann::json& doc) {
   }
 }
 
+std::FILE* TableStream(const std::string& json_path) { return json_path.empty() ? stderr : stdout; }
+
 }  // namespace hdribr::cli

@@ -1,6 +1,7 @@
 // Small parsers and output helpers shared by the subcommands.
 #pragma once
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <string>
@@ -18,5 +19,9 @@ std::vector<std::string> SplitList(const std::string& text);
 // A benchmark's JSON: printed to stdout (2-space indent) when `path` is empty, else written
 // there atomically.
 void EmitJson(const std::string& path, const nlohmann::json& doc);
+
+// Where a benchmark's readable table goes: stderr when its JSON goes to stdout (`json_path`
+// empty, see EmitJson), else stdout.
+std::FILE* TableStream(const std::string& json_path);
 
 }  // namespace hdribr::cli

@@ -143,8 +143,7 @@ int Run(const BenchDepthOptions& opt) {
                         {"results", results},
                         {"lechelek_over_marroquim", ratios}};
 
-  // The table goes to stdout when the JSON goes to a file, else to stderr.
-  FILE* table = opt.json.empty() ? stderr : stdout;
+  FILE* table = TableStream(opt.json);
   std::fprintf(table, "depth pass on %s\n", context.Renderer().c_str());
   std::fprintf(table,
                "steps: wall ms with a glFinish after each step; gpu ms: timestamp queries\n");

@@ -70,7 +70,7 @@ int Run(const BenchHdrOptions& opt) {
   const render::LoadedHdrPhotoSet set = render::LoadHdrPhotoSet(scene, set_folder);
 
   nlohmann::json modes = nlohmann::json::array();
-  FILE* table = opt.json_path.empty() ? stderr : stdout;
+  FILE* table = TableStream(opt.json_path);
   std::fprintf(table, "HDR modes on %zu GT novel views of %s (%s), %d repeats (median)\n",
                novel.images.size(), capture.c_str(), context.Renderer().c_str(), opt.repeats);
   std::fprintf(table, "%-12s %14s %16s %10s %10s\n", "mode", "err (global)", "err (per-chan)",

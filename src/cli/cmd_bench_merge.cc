@@ -128,7 +128,7 @@ int Run(const BenchMergeOptions& opt) {
   j["opencv_over_hdribr_time"] = Median(cv_total) / Median(ours_total);
   j["median_abs_log_ratio"] = agreement;
 
-  FILE* table = opt.json_path.empty() ? stderr : stdout;
+  FILE* table = TableStream(opt.json_path);
   std::fprintf(table, "merge benchmark: %zu images %dx%d, %d repeats (median), %d threads\n",
                stack.images.size(), stack.images[0].cols, stack.images[0].rows, opt.repeats,
                cv::getNumThreads());

@@ -94,8 +94,7 @@ int Run(const BenchRenderOptions& opt) {
   const PointCloud cloud = MakeBenchCloud(static_cast<size_t>(opt.points), DomeBenchScene());
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
-  // The table goes to stdout when the JSON goes to a file, else to stderr.
-  FILE* table = opt.json.empty() ? stderr : stdout;
+  FILE* table = TableStream(opt.json);
   std::fprintf(table, "%-10s %6s %5s %10s %10s %10s %10s %8s\n", "size", "photos", "K", "depth_ms",
                "blend_ms", "total_ms", "wall_ms", "valid%");
   for (int count : photo_counts) {
