@@ -13,7 +13,7 @@ cv::Size ParseSize(const std::string& text, const std::string& option) {
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
       w <= 0 || h <= 0 || w > 16384 || h > 16384) {
-    throw UsageError(option + " must be WxH with positive integers, got '" + text + "'");
+    throw UsageError(option + " must be WxH with integers from 1 to 16384, got '" + text + "'");
   }
   return {w, h};
 }

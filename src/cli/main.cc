@@ -40,6 +40,10 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "Debug logging");
   app.add_flag("-q,--quiet", quiet, "Warnings and errors only");
   app.set_version_flag("--version", "hdribr 0.1.0");
+  // Usage errors as one line, like every other error (CLI11's default adds a second line).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "error: " + std::string(e.what()) + " (see --help)\n";
+  });
 
   std::vector<std::pair<CLI::App*, hdribr::cli::CommandRunner>> runners;
   for (const auto& entry : hdribr::cli::CommandTable()) {
