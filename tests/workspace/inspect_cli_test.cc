@@ -60,6 +60,16 @@ TEST(InspectCli, BadInputIsOneClearLine) {
   EXPECT_EQ(std::count(nan.output.begin(), nan.output.end(), '\n'), 1) << nan.output;
 }
 
+TEST(InspectCli, CommandLineErrorsAreOneLine) {
+  // Parse errors of the command line (CLI11) follow the same one-line rule.
+  for (const std::string args : {" inspect", " inspect a b", " inspect --no-such-option x", ""}) {
+    const auto r = test::RunCommand(Exe() + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(r.output.rfind("error: ", 0), 0u) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+  }
+}
+
 // Bad workspaces: exit 2 and exactly one line naming the file; inspect never writes anything.
 TEST(InspectCli, CorruptFilesGiveOneLineAndLeaveTheWorkspaceUntouched) {
   const fs::path dir = test::TempDir();
