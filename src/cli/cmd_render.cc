@@ -191,10 +191,6 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
   if (!opt.debug.empty() || !opt.exclude.empty()) {
     throw UsageError("--debug and --exclude are not available with --hdr-mode");
   }
-  if (!(opt.key > 0) || !(opt.gamma > 0) || opt.log_average < 0 ||
-      !std::isfinite(opt.exposure_ev)) {
-    throw UsageError("--key and --gamma must be > 0, --log-average >= 0");
-  }
   const std::filesystem::path set_dir =
       opt.hdr_set.empty() ? std::filesystem::path(opt.workspace) / render::kHdrSetFolder
                           : std::filesystem::path(opt.hdr_set);
@@ -259,6 +255,13 @@ int Run(const RenderCliOptions& opt) {
   if (opt.k_best < 0) throw UsageError("--k-best must be >= 0 (0 = all photos)");
   if (opt.max_photo_size < 0) throw UsageError("--max-photo-size must be >= 0");
   const render::DepthMode depth_mode = render::ParseDepthMode(opt.depth_mode);
+  if (!(opt.key > 0) || !(opt.gamma > 0) || !(opt.log_average >= 0) ||
+      !std::isfinite(opt.exposure_ev) || !std::isfinite(opt.key) || !std::isfinite(opt.gamma) ||
+      !std::isfinite(opt.log_average)) {
+    throw UsageError(
+        "--key and --gamma must be finite and > 0, --log-average >= 0, --exposure "
+        "finite");
+  }
 
   const Scene scene = LoadWorkspace(opt.workspace);
   if (scene.photos.empty()) throw InputError(opt.workspace, "the workspace has no photos");
@@ -364,17 +367,26 @@ CommandRunner SetupRender(CLI::App& sub) {
   sub.add_option("--hdr-mode", opt->hdr_mode,
                  "HDR rendering: precomputed (HDR photo set), onthefly or direct")
       ->check(CLI::IsMember({"precomputed", "onthefly", "direct"}));
-  sub.add_option("--hdr-set", opt->hdr_set, "HDR photo set folder (default WORKSPACE/hdr)");
-  sub.add_option("--response", opt->response,
-                 "Response curve for onthefly/direct (default: the HDR set's)");
-  sub.add_option("--exposure", opt->exposure_ev, "Tone mapping: exposure in EV (x 2^EV)")
-      ->capture_default_str();
-  sub.add_option("--key", opt->key, "Tone mapping: Reinhard key k")->capture_default_str();
-  sub.add_option("--gamma", opt->gamma, "Tone mapping: display gamma")->capture_default_str();
-  sub.add_option("--log-average", opt->log_average,
-                 "Tone mapping: fixed log-average luminance L_a (0 = per image, on the GPU)")
-      ->capture_default_str();
-  return [opt] { return Run(*opt); };
+  // Options of HDR renders only: an LDR render refuses them rather than ignore them.
+  const std::vector<const CLI::Option*> hdr_only = {
+      sub.add_option("--hdr-set", opt->hdr_set, "HDR photo set folder (default WORKSPACE/hdr)"),
+      sub.add_option("--response", opt->response,
+                     "Response curve for onthefly/direct (default: the HDR set's)"),
+      sub.add_option("--exposure", opt->exposure_ev, "Tone mapping: exposure in EV (x 2^EV)")
+          ->capture_default_str(),
+      sub.add_option("--key", opt->key, "Tone mapping: Reinhard key k")->capture_default_str(),
+      sub.add_option("--gamma", opt->gamma, "Tone mapping: display gamma")->capture_default_str(),
+      sub.add_option("--log-average", opt->log_average,
+                     "Tone mapping: fixed log-average luminance L_a (0 = per image, on the GPU)")
+          ->capture_default_str()};
+  return [opt, hdr_only] {
+    for (const CLI::Option* o : hdr_only) {
+      if (o->count() > 0 && opt->hdr_mode.empty()) {
+        throw UsageError(o->get_name() + " applies to HDR renders: add --hdr-mode");
+      }
+    }
+    return Run(*opt);
+  };
 }
 
 }  // namespace hdribr::cli

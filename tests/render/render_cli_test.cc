@@ -99,6 +99,14 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
                        (out / "x.png").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("zz"), std::string::npos) << r.output;
+  // Tone mapping of an LDR render: refused, not ignored; non-finite values refused too.
+  r = test::RunCommand(base + " --camera s0_v00.jpg --exposure 1 --out " +
+                       (out / "x.png").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("--exposure applies to HDR renders"), std::string::npos) << r.output;
+  r = test::RunCommand(base + " --camera s0_v00.jpg --hdr-mode direct --gamma nan --out " +
+                       (out / "x.png").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out / "x.png"));
 
   // A photo missing on disk: an error naming the file, no output.
