@@ -43,8 +43,11 @@ double MaskedMse(const cv::Mat& reference, const cv::Mat& test, const cv::Mat& m
 cv::Mat SsimMap(const cv::Mat& reference, const cv::Mat& test) {
   // Constants of Wang et al. 2004 for a dynamic range L.
   const double l = Peak(reference);
-  const double c1 = (0.01 * l) * (0.01 * l);
-  const double c2 = (0.03 * l) * (0.03 * l);
+  // The constants for every channel, said explicitly: OpenCV 4.6 adds a plain double to every
+  // channel of a multi-channel expression but warns on each call that this may change
+  // (opencv/opencv#16739), which printed two warnings per evaluated view.
+  const cv::Scalar c1 = cv::Scalar::all((0.01 * l) * (0.01 * l));
+  const cv::Scalar c2 = cv::Scalar::all((0.03 * l) * (0.03 * l));
   cv::Mat x, y;
   reference.convertTo(x, CV_32F);
   test.convertTo(y, CV_32F);
