@@ -95,8 +95,13 @@ void WriteViewTruth(const fs::path& dir, const std::string& stem, const Rendered
 
 CapturePlan PlanCapture(const CaptureOptions& o) {
   if (o.series < 1 || o.views < 1 || o.novel_views < 0) {
-    throw UsageError("synth: --series and --views must be at least 1");
+    throw UsageError("synth: --series and --views must be at least 1, --novel at least 0");
   }
+  // Series of equal or non-finite exposure make no HDR capture (exposure times 2^(k ev_step)).
+  if (!(o.ev_step > 0) || !std::isfinite(o.ev_step) || o.ev_step > 8) {
+    throw UsageError("synth: --ev-step must be in (0, 8] stops");
+  }
+  if (o.threads < 0) throw UsageError("synth: --threads must be >= 0 (0 = all cores)");
   if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192) {
     throw UsageError("synth: --size must be between 16x16 and 8192x8192");
   }

@@ -364,6 +364,14 @@ TEST(CaptureInput, RefusesANonEmptyOutputAndBadOptions) {
   o.scene = "default";
   o.views = 0;
   EXPECT_THROW(WriteCapture(o, tmp / "new"), UsageError);
+  o.views = 1;
+  for (double ev : {0.0, -2.0, std::nan(""), HUGE_VAL}) {
+    o.ev_step = ev;  // equal or undefined exposure times: no HDR capture
+    EXPECT_THROW(WriteCapture(o, tmp / "new"), UsageError) << ev;
+  }
+  o.ev_step = 2.0;
+  o.threads = -1;
+  EXPECT_THROW(WriteCapture(o, tmp / "new"), UsageError);
   // Only the pre-existing folder remains: no partial outputs.
   EXPECT_EQ(std::distance(fs::directory_iterator(tmp), fs::directory_iterator()), 1);
 }
