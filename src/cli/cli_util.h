@@ -1,6 +1,8 @@
 // Small parsers and output helpers shared by the subcommands.
 #pragma once
 
+#include <CLI/CLI.hpp>
+#include <climits>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -8,6 +10,11 @@
 #include <vector>
 
 namespace hdribr::cli {
+
+// Option checks for integer counts and sizes (CLI::NonNegativeNumber and CLI::PositiveNumber
+// print the largest double in their errors).
+inline const CLI::Range kAtLeastZero(0, INT_MAX);
+inline const CLI::Range kAtLeastOne(1, INT_MAX);
 
 // "640x480" (or "640X480") -> size; throws UsageError naming `option` for anything else,
 // including non-positive sizes or sides above 16384.

@@ -139,7 +139,8 @@ CommandRunner SetupBenchHdr(CLI::App& sub) {
   sub.add_option("--repeats", opt->repeats, "Frames per view (the median is reported)")
       ->capture_default_str();
   sub.add_option("--max-photo-size", opt->max_photo_size, "Longest side of photos on the GPU")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kAtLeastZero);
   sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout");
   return [opt] { return Run(*opt); };
 }

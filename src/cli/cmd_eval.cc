@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "eval/leave_one_out.h"
@@ -95,7 +96,8 @@ CommandRunner SetupEval(CLI::App& sub) {
   sub.add_option("--depth-mode", opt->depth_mode, "plain, marroquim or lechelek")
       ->default_val("lechelek")
       ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
-  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU");
+  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU")
+      ->check(kAtLeastZero);
   sub.add_option("--k-best", opt->k_best,
                  "K best photos per pixel (0: 4 for ulr, all for paper weights)");
   sub.add_option("--weights", opt->weights,

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "gl/context.h"
@@ -169,7 +170,8 @@ CommandRunner SetupHdr(CLI::App& sub) {
   sub.add_flag("--no-aligned", opt->no_aligned, "Do not export the aligned LDR renders");
   sub.add_option("--max-photo-size", opt->max_photo_size,
                  "Longest side of photos on the GPU (0 = full size)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kAtLeastZero);
   sub.add_option("--truth", opt->truth,
                  "Synthetic capture folder (hdribr synth): report errors vs "
                  "its ground truth");

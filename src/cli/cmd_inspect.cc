@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -159,7 +160,8 @@ CommandRunner SetupInspect(CLI::App& sub) {
   sub.add_flag("--json", opt->json, "Print JSON instead of text");
   sub.add_flag("--gpu", opt->gpu, "Also load the photos on the GPU and report the memory used");
   sub.add_option("--max-photo-size", opt->max_photo_size,
-                 "With --gpu: longest photo side on the GPU (0 = full size)");
+                 "With --gpu: longest photo side on the GPU (0 = full size)")
+      ->check(kAtLeastZero);
   return [opt] { return Run(*opt); };
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "hdr/debevec.h"
@@ -235,7 +236,7 @@ CommandRunner SetupMerge(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--samples", opt->samples, "Pixel samples per channel for the calibration")
       ->excludes(response)
-      ->check(CLI::PositiveNumber)
+      ->check(kAtLeastOne)
       ->capture_default_str();
   sub.add_flag("--plain-debevec", opt->plain_debevec,
                "Calibrate as Debevec-Malik published (smoothness in z, all samples, one solve)")

@@ -253,7 +253,6 @@ int Run(const RenderCliOptions& opt) {
   if (!opt.path.empty() && opt.out_dir.empty()) throw UsageError("render: --path needs --out-dir");
   if (!opt.out.empty()) CheckOutputExtension(opt.out);
   if (opt.k_best < 0) throw UsageError("--k-best must be >= 0 (0 = all photos)");
-  if (opt.max_photo_size < 0) throw UsageError("--max-photo-size must be >= 0");
   const render::DepthMode depth_mode = render::ParseDepthMode(opt.depth_mode);
   if (!(opt.key > 0) || !(opt.gamma > 0) || !(opt.log_average >= 0) ||
       !std::isfinite(opt.exposure_ev) || !std::isfinite(opt.key) || !std::isfinite(opt.gamma) ||
@@ -360,7 +359,8 @@ CommandRunner SetupRender(CLI::App& sub) {
       ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
   sub.add_option("--max-photo-size", opt->max_photo_size,
                  "Longest side of photos on the GPU (0 = full size)")
-      ->default_val(0);
+      ->default_val(0)
+      ->check(kAtLeastZero);
   sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold on N . V_k")->default_val(1e-4);
   sub.add_option("--tolerance", opt->tolerance, "Relative depth tolerance of the occlusion test")
       ->default_val(0.01);

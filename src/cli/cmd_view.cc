@@ -2,6 +2,7 @@
 // headless use (--frames N --screenshot FILE).
 #include <memory>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
 #include "viewer/app.h"
@@ -33,13 +34,13 @@ CommandRunner SetupView(CLI::App& sub) {
       ->check(CLI::IsMember({"paper", "ulr"}));
   sub.add_option("--k-best", opt->k_best, "K best photos (0: 4 for ulr, all for paper)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(kAtLeastZero);
   sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold")->default_val(1e-4);
   sub.add_option("--tolerance", opt->tolerance, "Occlusion tolerance (relative depth)")
       ->default_val(0.01);
   sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(kAtLeastZero);
   sub.add_option("--tonemap", *tonemap, "Reinhard tone mapping: auto (on for HDR), on, off")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "on", "off"}));
@@ -48,7 +49,7 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_option("--gamma", *gamma, "Display gamma (default 2.2 for HDR, 1 for LDR)");
   sub.add_option("--frames", opt->frames, "Scripted: exit after N frames (0 = interactive)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(kAtLeastZero);
   sub.add_option("--screenshot", opt->screenshot,
                  "Scripted: write the last frame (.png tone-mapped + .exr linear)");
   sub.add_option("--window-screenshot", opt->window_screenshot,

@@ -62,7 +62,8 @@ TEST(InspectCli, BadInputIsOneClearLine) {
 
 TEST(InspectCli, CommandLineErrorsAreOneLine) {
   // Parse errors of the command line (CLI11) follow the same one-line rule.
-  for (const std::string args : {" inspect", " inspect a b", " inspect --no-such-option x", ""}) {
+  for (const std::string args : {" inspect", " inspect a b", " inspect --no-such-option x", "",
+                                 " inspect x --gpu --max-photo-size -1"}) {
     const auto r = test::RunCommand(Exe() + args);
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(r.output.rfind("error: ", 0), 0u) << args << ": " << r.output;
