@@ -14,6 +14,7 @@
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "io/workspace.h"
+#include "render/renderer.h"
 
 namespace hdribr::cli {
 namespace {
@@ -49,9 +50,7 @@ int Run(const EvalCliOptions& opt) {
   options.renderer.blend.k_best = opt.k_best;
   options.renderer.blend.weights = render::ParseBlendWeights(opt.weights);
   options.renderer.blend.occlusion_tolerance = opt.tolerance;
-  if (!(opt.tolerance > 0.0f && opt.tolerance < 1.0f)) {
-    throw UsageError("--tolerance must be in (0, 1), got " + std::to_string(opt.tolerance));
-  }
+  render::ValidateBlendOptions(options.renderer.blend);
   if (!(opt.size_scale > 0.0 && opt.size_scale <= 1.0)) {
     throw UsageError("--size-scale must be in (0, 1], got " + std::to_string(opt.size_scale));
   }

@@ -252,7 +252,7 @@ int Run(const RenderCliOptions& opt) {
   if (!opt.camera.empty() && opt.out.empty()) throw UsageError("render: --camera needs --out");
   if (!opt.path.empty() && opt.out_dir.empty()) throw UsageError("render: --path needs --out-dir");
   if (!opt.out.empty()) CheckOutputExtension(opt.out);
-  if (opt.k_best < 0) throw UsageError("--k-best must be >= 0 (0 = all photos)");
+  render::ValidateBlendOptions(BlendOptionsFrom(opt));
   const render::DepthMode depth_mode = render::ParseDepthMode(opt.depth_mode);
   if (!(opt.key > 0) || !(opt.gamma > 0) || !(opt.log_average >= 0) ||
       !std::isfinite(opt.exposure_ev) || !std::isfinite(opt.key) || !std::isfinite(opt.gamma) ||

@@ -1,10 +1,12 @@
 // `hdribr view WORKSPACE`: the interactive viewer (src/viewer), also scriptable for tests and
 // headless use (--frames N --screenshot FILE).
+#include <cmath>
 #include <memory>
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "core/error.h"
+#include "render/renderer.h"
 #include "viewer/app.h"
 
 namespace hdribr::cli {
@@ -70,9 +72,17 @@ CommandRunner SetupView(CLI::App& sub) {
   return [opt, tonemap, gamma] {
     if (*tonemap != "auto") opt->tonemap = *tonemap == "on";
     if (*gamma != 0) {
-      if (*gamma < 0.1f || *gamma > 10) throw UsageError("--gamma must be in [0.1, 10]");
+      if (!(*gamma >= 0.1f && *gamma <= 10)) throw UsageError("--gamma must be in [0.1, 10]");
       opt->gamma = *gamma;
     }
+    if (!(opt->key > 0) || !std::isfinite(opt->key) || !std::isfinite(opt->exposure_ev)) {
+      throw UsageError("--key must be finite and > 0, --exposure finite");
+    }
+    render::BlendOptions blend;
+    blend.k_best = opt->k_best;
+    blend.lambda = opt->lambda;
+    blend.occlusion_tolerance = opt->tolerance;
+    render::ValidateBlendOptions(blend);
     if ((!opt->screenshot.empty() || !opt->window_screenshot.empty()) && opt->frames == 0) {
       opt->frames = 3;
     }

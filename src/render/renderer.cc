@@ -124,6 +124,20 @@ struct Renderer::Impl {
   }
 };
 
+void ValidateBlendOptions(const BlendOptions& options) {
+  if (options.k_best < 0) {
+    throw UsageError("--k-best must be >= 0 (0 = the default), got " +
+                     std::to_string(options.k_best));
+  }
+  if (!(options.lambda >= 0.0f && options.lambda < 1.0f)) {
+    throw UsageError("--lambda must be in [0, 1), got " + std::to_string(options.lambda));
+  }
+  if (!(options.occlusion_tolerance > 0.0f && options.occlusion_tolerance < 1.0f)) {
+    throw UsageError("--tolerance must be in (0, 1), got " +
+                     std::to_string(options.occlusion_tolerance));
+  }
+}
+
 Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, RendererOptions options) {
   const auto t0 = std::chrono::steady_clock::now();
   impl_ = std::make_unique<Impl>(shaders, scene, std::move(options));

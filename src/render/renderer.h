@@ -58,6 +58,10 @@ struct BlendOptions {
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
 };
 
+// Throws UsageError, naming the command-line option (--k-best, --lambda, --tolerance), for
+// values no blend can use: k_best < 0, lambda outside [0, 1), tolerance outside (0, 1).
+void ValidateBlendOptions(const BlendOptions& options);
+
 struct RendererOptions {
   DepthPassOptions depth;
   BlendOptions blend;

@@ -107,6 +107,12 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
   r = test::RunCommand(base + " --camera s0_v00.jpg --hdr-mode direct --gamma nan --out " +
                        (out / "x.png").string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
+  for (const std::string bad : {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2"}) {
+    r = test::RunCommand(base + " --camera s0_v00.jpg " + bad + " --out " +
+                         (out / "x.png").string());
+    EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.output;
+  }
   EXPECT_FALSE(std::filesystem::exists(out / "x.png"));
 
   // A photo missing on disk: an error naming the file, no output.
