@@ -374,7 +374,26 @@ std::string ChooseMatching(int num_photos, int num_series, bool have_vocab_tree)
   return "sequential";
 }
 
+namespace {
+
+// Refuses option values that COLMAP or the dense stage would fail on only minutes later.
+void CheckOptions(const ReconstructOptions& opt) {
+  if (opt.max_features < 1) throw UsageError("--max-features must be >= 1");
+  if (opt.sift_max_size < 16) throw UsageError("--sift-size must be >= 16");
+  if (opt.undistort_max_size != -1 && opt.undistort_max_size < 16) {
+    throw UsageError("--image-size must be -1 (as shot) or >= 16");
+  }
+  const DenseOptions& d = opt.dense_options;
+  if (d.max_size < 16 || d.num_depths < 2 || d.num_neighbors < 1) {
+    throw UsageError("--dense-size must be >= 16, --dense-depths >= 2, --dense-neighbors >= 1");
+  }
+  if (opt.threads < 0) throw UsageError("--threads must be >= 0 (0 = all cores)");
+}
+
+}  // namespace
+
 ReconstructReport Reconstruct(const ReconstructOptions& opt) {
+  CheckOptions(opt);
   ReconstructReport report;
   Context ctx{opt, {}, {}, opt.workspace / "logs", {}, 1, 0};
   ctx.photos = ListPhotos(opt.photos);

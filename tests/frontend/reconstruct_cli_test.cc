@@ -55,6 +55,21 @@ TEST(ReconstructCli, MissingColmapIsOneClearError) {
   EXPECT_EQ(CountLines(r.output), 1) << r.output;
 }
 
+TEST(ReconstructCli, BadOptionsAreRefusedBeforeAnyWork) {
+  // Refused up front (COLMAP used to fail minutes later, leaving a half-made workspace).
+  const fs::path dir = test::TempDir("rec_badopt");
+  fs::create_directories(dir / "photos");
+  for (const std::string bad : {"--max-features 0", "--dense-size -1", "--image-size 0",
+                                "--threads -1", "--dense-depths 1"}) {
+    const auto r = test::RunCommand(Exe() + " -q reconstruct " + (dir / "photos").string() + " " +
+                                    (dir / "ws").string() + " " + bad);
+    EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.output;
+    EXPECT_EQ(CountLines(r.output), 1) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "ws")) << bad;
+  }
+}
+
 std::map<std::string, Eigen::Vector3d> Centers(const ColmapModel& m) {
   std::map<std::string, Eigen::Vector3d> out;
   for (const auto& [id, im] : m.images) out[im.name] = im.cam_from_world.Inverse().translation;
