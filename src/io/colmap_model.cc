@@ -61,6 +61,10 @@ Camera MakeCamera(int id, int model_id_or_minus1, const std::string& model_name,
     }
   }
   cam.params = std::move(params);
+  if (!(cam.fx() > 0) || !(cam.fy() > 0)) {
+    throw InputError(file, where + "camera " + std::to_string(id) + " has a focal length <= 0 (" +
+                               std::to_string(cam.fx()) + ", " + std::to_string(cam.fy()) + " px)");
+  }
   return cam;
 }
 

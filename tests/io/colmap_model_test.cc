@@ -172,6 +172,10 @@ TEST(ColmapModel, UnknownCameraModelAndBadParametersAreRefused) {
   ExpectInputError([&] { ReadColmapModel(dir); }, {"cameras.txt", "needs 4 parameters, got 3"});
   WriteText(dir / "cameras.txt", "4 PINHOLE 640 -480 1 2 3 4\n");
   ExpectInputError([&] { ReadColmapModel(dir); }, {"cameras.txt", "invalid size"});
+  WriteText(dir / "cameras.txt", "4 PINHOLE 640 480 500 0 320 240\n");
+  ExpectInputError([&] { ReadColmapModel(dir); }, {"cameras.txt", "focal length <= 0"});
+  WriteText(dir / "cameras.txt", "4 SIMPLE_RADIAL 640 480 -500 320 240 0\n");
+  ExpectInputError([&] { ReadColmapModel(dir); }, {"cameras.txt", "focal length <= 0"});
   WriteText(dir / "cameras.txt", "4 PINHOLE 640 480 1 2 3 x4\n");
   ExpectInputError([&] { ReadColmapModel(dir); }, {"cameras.txt", "'x4' is not a number"});
 
