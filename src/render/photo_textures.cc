@@ -65,6 +65,16 @@ PhotoTextures::PhotoTextures(const Scene& scene, const std::vector<cv::Mat>& ima
     } else {
       s = ReadImageSize(scene.photos[i].image_path);
     }
+    // The blend maps the camera's pixels onto the photo by its size, so a photo may be the
+    // camera's frame at any scale, but not of another shape (it would be sampled stretched).
+    const Camera& cam = scene.CameraOf(scene.photos[i]);
+    if (std::abs(static_cast<double>(s.height) * cam.width -
+                 static_cast<double>(s.width) * cam.height) > std::max(cam.width, s.width)) {
+      throw InputError(scene.photos[i].image_path,
+                       "image is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                           ", not the shape of camera " + std::to_string(cam.id) + " (" +
+                           std::to_string(cam.width) + "x" + std::to_string(cam.height) + ")");
+    }
     const int longest = std::max(s.width, s.height);
     if (longest > limit) {
       const double f = static_cast<double>(limit) / longest;

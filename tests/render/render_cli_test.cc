@@ -2,6 +2,7 @@
 // nearest mode), and clear errors on bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <opencv2/imgproc.hpp>
 
@@ -123,6 +124,17 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
                        (out / "m.png").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("s0_v03.jpg"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.png"));
+
+  // A photo of another shape than its camera (it would be sampled stretched); another scale
+  // is fine (BlendPassTest.PhotoSizesFloatPhotosAndMaxPhotoSize).
+  const cv::Mat photo = ReadImage(ws / "images" / "s0_v01.jpg");
+  WriteImage(ws / "images" / "s0_v03.jpg", photo.colRange(0, photo.rows).clone());
+  r = test::RunCommand(Exe() + " -q render " + ws.string() + " --camera s0_v00.jpg --out " +
+                       (out / "m.png").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("s0_v03.jpg: image is"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out / "m.png"));
 
   // Every point behind the camera: all invalid, a warning, exit 0.
