@@ -176,6 +176,7 @@ int Run(const DemoOptions& opt) {
   co.threads = opt.threads;
   if (opt.series < 2) throw UsageError("--series must be >= 2 (the HDR set merges exposures)");
   if (opt.views < 2) throw UsageError("--views must be >= 2");
+  synth::PlanCapture(co);  // the capture's own option checks, before any folder is made
   const auto t0 = std::chrono::steady_clock::now();
   const fs::path out = fs::absolute(opt.out);
   fs::create_directories(out);

@@ -115,12 +115,14 @@ TEST(DemoCliTest, HeadlessOrbitThenReuse) {
   EXPECT_FALSE(fs::exists(orbit / "frame_0001.png"));
   EXPECT_FALSE(fs::exists(orbit / "frame_0001.exr"));
 
-  // Bad options: one clear error, nothing written.
-  const auto bad = test::RunCommand(std::string(HDRIBR_EXE) + " demo --headless --out " +
-                                    (out.parent_path() / "bad").string() + " --size 96");
-  EXPECT_NE(bad.exit_code, 0);
-  EXPECT_NE(bad.output.find("--size"), std::string::npos) << bad.output;
-  EXPECT_FALSE(fs::exists(out.parent_path() / "bad"));
+  // Bad options, the capture's own included: one clear error, nothing written.
+  for (const std::string opt : {"--size 96", "--size 8x8", "--threads -1"}) {
+    const auto bad = test::RunCommand(std::string(HDRIBR_EXE) + " demo --headless --out " +
+                                      (out.parent_path() / "bad").string() + " " + opt);
+    EXPECT_NE(bad.exit_code, 0) << opt;
+    EXPECT_NE(bad.output.find(opt.substr(0, opt.find(' '))), std::string::npos) << bad.output;
+    EXPECT_FALSE(fs::exists(out.parent_path() / "bad")) << opt;
+  }
 }
 
 }  // namespace
