@@ -1,5 +1,6 @@
 #include "core/camera.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -122,6 +123,12 @@ Camera Camera::Scaled(int w, int h) const {
   const double sy = static_cast<double>(h) / height;
   Camera c = Pinhole(id, w, h, fx() * sx, fy() * sy, cx() * sx, cy() * sy);
   return c;
+}
+
+bool Camera::FitsImage(int w, int h) const {
+  if (w <= 0 || h <= 0) return false;
+  return std::abs(static_cast<double>(h) * width - static_cast<double>(w) * height) <=
+         std::max(width, w);
 }
 
 double Camera::FovX() const { return 2.0 * std::atan(0.5 * width / fx()); }

@@ -56,6 +56,9 @@ struct Camera {
   Eigen::Vector3d CamFromPixel(const Eigen::Vector2d& px) const;
   // Same intrinsics for an image resized to (w, h).
   Camera Scaled(int w, int h) const;
+  // True when a w x h image is this camera's frame at some scale (aspect within a pixel), as
+  // the renderer samples photos; false for another shape.
+  bool FitsImage(int w, int h) const;
   // Horizontal and vertical field of view in radians.
   double FovX() const;
   double FovY() const;

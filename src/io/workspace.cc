@@ -167,10 +167,11 @@ std::vector<std::string> ValidateScene(const Scene& scene) {
     try {
       const cv::Size size = ReadImageSize(photo.image_path);
       const Camera& cam = scene.CameraOf(photo);
-      if (size.width != cam.width || size.height != cam.height) {
+      if (!cam.FitsImage(size.width, size.height)) {
         problems.push_back(where + ": image is " + std::to_string(size.width) + "x" +
-                           std::to_string(size.height) + " but camera " + std::to_string(cam.id) +
-                           " is " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
+                           std::to_string(size.height) + ", not the shape of camera " +
+                           std::to_string(cam.id) + " (" + std::to_string(cam.width) + "x" +
+                           std::to_string(cam.height) + ")");
       }
     } catch (const InputError& e) {
       problems.push_back(e.what());

@@ -34,7 +34,7 @@ struct LoadOptions {
 // their distortion is zero. Throws InputError on bad input.
 Scene LoadWorkspace(const std::filesystem::path& root, const LoadOptions& options = {});
 
-// One line per problem found: missing photos, photo size differing from the camera, NaN poses,
+// One line per problem found: missing photos, a photo not of its camera's shape, NaN poses,
 // no points, ... Empty when the scene is sound.
 std::vector<std::string> ValidateScene(const Scene& scene);
 

@@ -68,8 +68,7 @@ PhotoTextures::PhotoTextures(const Scene& scene, const std::vector<cv::Mat>& ima
     // The blend maps the camera's pixels onto the photo by its size, so a photo may be the
     // camera's frame at any scale, but not of another shape (it would be sampled stretched).
     const Camera& cam = scene.CameraOf(scene.photos[i]);
-    if (std::abs(static_cast<double>(s.height) * cam.width -
-                 static_cast<double>(s.width) * cam.height) > std::max(cam.width, s.width)) {
+    if (!cam.FitsImage(s.width, s.height)) {
       throw InputError(scene.photos[i].image_path,
                        "image is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                            ", not the shape of camera " + std::to_string(cam.id) + " (" +

@@ -51,6 +51,14 @@ TEST(Camera, PixelRoundTripAndScaling) {
   // Half resolution: the same point lands at half the pixel coordinates.
   const Camera half = c.Scaled(320, 240);
   EXPECT_TRUE(half.PixelFromCam(p).isApprox(px * 0.5, 1e-12));
+  // Images that are the frame at another scale fit (rounding within a pixel); other shapes not.
+  EXPECT_TRUE(c.FitsImage(640, 480));
+  EXPECT_TRUE(c.FitsImage(320, 240));
+  EXPECT_TRUE(c.FitsImage(321, 240));
+  EXPECT_TRUE(c.FitsImage(1280, 960));
+  EXPECT_FALSE(c.FitsImage(480, 480));
+  EXPECT_FALSE(c.FitsImage(640, 470));
+  EXPECT_FALSE(c.FitsImage(0, 0));
 }
 
 }  // namespace

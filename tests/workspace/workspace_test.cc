@@ -85,7 +85,11 @@ TEST(Workspace, ValidationFindsMissingAndMisSizedPhotos) {
   const auto problems = ValidateScene(scene);
   ASSERT_EQ(problems.size(), 2u);
   EXPECT_NE(problems[0].find("p1.jpg: photo file is missing"), std::string::npos);
-  EXPECT_NE(problems[1].find("p2.jpg: image is 10x10 but camera 7 is 80x60"), std::string::npos);
+  EXPECT_NE(problems[1].find("p2.jpg: image is 10x10, not the shape of camera 7 (80x60)"),
+            std::string::npos);
+  // The camera's frame at another scale is no problem (the renderer samples it by its size).
+  WriteImage(dir / "images" / "p2.jpg", cv::Mat(30, 40, CV_8UC3, cv::Scalar(1, 2, 3)));
+  EXPECT_EQ(ValidateScene(LoadWorkspace(dir)).size(), 1u);
 }
 
 TEST(Workspace, MissingFolderAndEmptyFolderAreClearErrors) {
