@@ -130,6 +130,9 @@ CommandRunner SetupSynth(CLI::App& sub) {
   sub.add_option("--novel", opt->capture.novel_views, "Ground-truth novel test views")
       ->capture_default_str();
   sub.add_option("--ev-step", opt->capture.ev_step, "Stops between series")->capture_default_str();
+  sub.add_option("--toe", opt->capture.toe,
+                 "Camera response: end of its linear toe, share of saturation (0 = pure power law)")
+      ->capture_default_str();
   sub.add_option("--threads", opt->capture.threads, "Render threads (0 = all cores)")
       ->capture_default_str();
   sub.add_option("--preview", opt->preview,

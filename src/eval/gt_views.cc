@@ -46,12 +46,14 @@ synth::SyntheticResponse ReadCaptureResponse(const std::filesystem::path& captur
       r.knee[static_cast<size_t>(c)] = resp.at("knee_bgr").at(static_cast<size_t>(c));
     }
     r.x_sat = resp.at("x_sat");
+    r.toe = resp.value("toe", 0.0);  // captures made before the toe: a pure power law
     r.shot = resp.value("noise_shot", r.shot);
     r.read = resp.value("noise_read", r.read);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, std::string("not a capture description: ") + e.what());
   }
   if (!(r.x_sat > 0)) throw InputError(path, "response x_sat must be positive");
+  if (!(r.toe >= 0 && r.toe < 1)) throw InputError(path, "response toe must be in [0, 1)");
   return r;
 }
 

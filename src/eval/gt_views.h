@@ -26,7 +26,7 @@ struct GtView {
 // in image-id order. Throws InputError naming the folder or file when something is missing.
 std::vector<GtView> ReadGtNovelViews(const std::filesystem::path& capture_dir);
 
-// The capture's true response (gamma, knee, x_sat from CAPTURE/gt/capture.json), noise
+// The capture's true response (gamma, knee, toe, x_sat from CAPTURE/gt/capture.json), noise
 // parameters included (not used by RadianceToLdr). Throws InputError on a bad file.
 synth::SyntheticResponse ReadCaptureResponse(const std::filesystem::path& capture_dir);
 

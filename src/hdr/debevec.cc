@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -14,6 +15,9 @@ namespace {
 
 constexpr int kLevels = 256;
 constexpr int kMid = 128;  // g(kMid) = 0 fixes the curve's free additive constant
+constexpr int kBins = 32;  // intensity bins of the reference exposure (sampling and trimming)
+
+int BinOf(int z) { return z * kBins / kLevels; }
 
 // Pixel indices for channel c, spread over the intensity range and over the image: candidate
 // pixels (a grid of about 60k) are binned by their value in the reference (mid) exposure; a
@@ -25,7 +29,6 @@ constexpr int kMid = 128;  // g(kMid) = 0 fixes the curve's free additive consta
 // candidates are kept before picking.
 std::vector<int> SelectSamples(const cv::Mat& reference, const cv::Mat& all_valid, int channel,
                                int count, const cv::Mat& contrast, double flat_fraction) {
-  constexpr int kBins = 32;
   const int w = reference.cols;
   const int h = reference.rows;
   const long total = static_cast<long>(w) * h;
@@ -37,7 +40,7 @@ std::vector<int> SelectSamples(const cv::Mat& reference, const cv::Mat& all_vali
     const uint8_t* valid = all_valid.empty() ? nullptr : all_valid.ptr<uint8_t>(y);
     for (int x = step / 2; x < w; x += step) {
       if (valid && !valid[x]) continue;
-      bins[row[3 * x + channel] * kBins / kLevels].push_back(y * w + x);
+      bins[BinOf(row[3 * x + channel])].push_back(y * w + x);
       ++candidates;
     }
   }
@@ -192,6 +195,21 @@ double SampleResidual(const SampleValues& z, const std::vector<double>& log_t,
   return std::sqrt(std::max(0.0, sum_arr / sum_a - mean * mean));
 }
 
+// Clears use[i] for the share `trim` of the samples with the largest residual within each
+// group (group[i] in [0, kBins)), and for every sample whose residual exceeds `gross`.
+void TrimWorst(const std::vector<double>& residual, const std::vector<int>& group, double trim,
+               double gross, std::vector<char>& use) {
+  std::array<std::vector<std::pair<double, size_t>>, kBins> groups;
+  for (size_t i = 0; i < residual.size(); ++i) groups[group[i]].push_back({residual[i], i});
+  for (auto& members : groups) {
+    const auto n = static_cast<long>(std::floor(trim * static_cast<double>(members.size())));
+    std::nth_element(members.begin(), members.end() - n, members.end());
+    for (auto it = members.begin(); it != members.end(); ++it) {
+      if (it >= members.end() - n || it->first > gross) use[it->second] = 0;
+    }
+  }
+}
+
 }  // namespace
 
 double HatWeight(int z) { return std::min(z, 255 - z); }
@@ -224,7 +242,8 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
         "(pass a response file to merge without calibrating)");
   }
   const std::vector<int> order = stack.OrderByTime();
-  const cv::Mat& reference = stack.images[order[p / 2]];
+  const int reference_index = order[p / 2];
+  const cv::Mat& reference = stack.images[reference_index];
   const cv::Mat all_valid = AllValid(stack);
   std::vector<double> log_t(p);
   for (int j = 0; j < p; ++j) log_t[j] = std::log(stack.times[j]);
@@ -269,18 +288,37 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
     std::vector<char> use(samples.size(), 1);
     std::vector<double>& g = curve.log_inverse[c];
     bool solved = SolveChannel(samples, use, log_t, options, g);
-    int drop = static_cast<int>(std::floor(options.trim * used));
-    if (!solved || used - drop < 1) drop = 0;
-    if (drop > 0) {
-      // Robust refit: drop the samples the first fit explains worst (series that disagree).
-      std::vector<std::pair<double, size_t>> residuals(samples.size());
-      for (size_t i = 0; i < samples.size(); ++i) {
-        residuals[i] = {SampleResidual(samples[i], log_t, g), i};
+    int drop = 0;
+    if (solved && options.trim > 0) {
+      // Robust refit in two rounds. First the samples the first fit explains worst over the
+      // whole stack (series that disagree, corrupt or misregistered images) are dropped and g
+      // solved again; then, with that cleaner g, the worst of each intensity bin of the
+      // reference exposure (and any gross outlier). Per bin because the dark and bright ends
+      // are noisier in ln E: the first round alone drops nearly all of their samples, leaving
+      // those ends to the smoothness term.
+      std::vector<double> residual(samples.size());
+      for (int round = 0; round < 2; ++round) {
+        for (size_t i = 0; i < samples.size(); ++i) {
+          residual[i] = SampleResidual(samples[i], log_t, g);
+        }
+        // Round 0: one group, no gross cut; round 1: the intensity bins, and residuals over
+        // kOutlier x the median dropped in any bin.
+        constexpr double kOutlier = 10.0;
+        std::vector<int> group(samples.size(), 0);
+        double gross = std::numeric_limits<double>::infinity();
+        if (round == 1) {
+          for (size_t i = 0; i < samples.size(); ++i) group[i] = BinOf(samples[i][reference_index]);
+          std::vector<double> sorted = residual;
+          const auto mid = sorted.begin() + static_cast<long>(sorted.size() / 2);
+          std::nth_element(sorted.begin(), mid, sorted.end());
+          gross = kOutlier * *mid;
+        }
+        std::fill(use.begin(), use.end(), 1);
+        TrimWorst(residual, group, options.trim, gross, use);
+        // Should a refit be singular, g keeps the previous fit (SolveChannel leaves it alone).
+        if (!SolveChannel(samples, use, log_t, options, g)) break;
+        drop = static_cast<int>(std::count(use.begin(), use.end(), 0));
       }
-      std::nth_element(residuals.begin(), residuals.end() - drop, residuals.end());
-      for (auto it = residuals.end() - drop; it != residuals.end(); ++it) use[it->second] = 0;
-      // Should the refit be singular, g keeps the first fit (SolveChannel leaves it alone).
-      if (!SolveChannel(samples, use, log_t, options, g)) drop = 0;
     }
     if (!solved) {
       throw UsageError(

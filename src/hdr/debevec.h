@@ -16,10 +16,11 @@ double HatWeight(int z);
 // Defaults: the data term grows with the number of samples while the smoothness term does not,
 // so lambda goes with samples. Measured in docs/algorithms.md ("HDR: response calibration"):
 // on the synthetic captures (3 series, 2 stops apart) the flat-sample selection, the trimmed
-// refit and lambda 60 bring the response from renders from 0.60 / 0.24 / 0.15 RMS (10-245 DN,
-// B/G/R) to 0.021-0.043 / 0.013-0.014 / 0.012-0.018, and on memorial they keep the curve monotonic
-// (median log ratio vs OpenCV 0.070 -> 0.048). Debevec's plain method: kCode, flat_fraction 1, trim
-// 0 (lambda 30 was the old default).
+// refit and lambda 60 bring the response from renders to 0.007-0.022 / 0.005-0.016 /
+// 0.005-0.023 RMS (10-245 DN, B/G/R; 0.60 / 0.24 / 0.15 with the plain method on the camera
+// before its linear toe), and on memorial they keep the curve monotonic (median log ratio vs
+// OpenCV 0.070 -> 0.043). Debevec's plain method: kCode, flat_fraction 1, trim 0 (lambda 30 was
+// the old default).
 struct CalibrationOptions {
   double lambda = 60.0;  // smoothness weight (Debevec's lambda)
   int samples = 1000;    // pixel locations per channel, spread over intensities and the image
@@ -33,7 +34,9 @@ struct CalibrationOptions {
   // exposures disagree. 1 = every candidate (Debevec).
   double flat_fraction = 0.3;
   // Share of the samples with the largest residual (RMS over the images of g(Z) - ln t - ln E
-  // after the fit) dropped before solving again; 0 = a single solve (Debevec).
+  // after the fit) dropped before solving again, twice: over all samples, then, residuals
+  // recomputed with that fit, within each intensity bin of the reference exposure (plus any
+  // residual over 10x the median); 0 = a single solve (Debevec).
   double trim = 0.3;
 };
 

@@ -23,17 +23,47 @@ double SplitMix64::Gaussian() {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 
+namespace {
+
+// The toe of s(x): offset a and slope phi for which phi x and (1 + a) x^(1/gamma) - a meet
+// with equal value and slope at x = toe (a = c / (1 - c), c = toe^(1/gamma) (1 - 1/gamma)).
+struct Toe {
+  double offset = 0.0;
+  double slope = 0.0;
+};
+
+Toe ToeOf(double gamma, double toe) {
+  if (toe <= 0.0) return {};
+  const double root = std::pow(toe, 1.0 / gamma);
+  const double c = root * (1.0 - 1.0 / gamma);
+  const double offset = c / (1.0 - c);
+  return {offset, (1.0 + offset) * root / (toe * gamma)};
+}
+
+}  // namespace
+
+double SyntheticResponse::Encode(int c, double x) const {
+  const Toe t = ToeOf(gamma[c], toe);
+  if (x < toe) return t.slope * x;
+  return (1.0 + t.offset) * std::pow(x, 1.0 / gamma[c]) - t.offset;
+}
+
+double SyntheticResponse::Decode(int c, double y) const {
+  const Toe t = ToeOf(gamma[c], toe);
+  if (y < t.slope * toe) return y / t.slope;
+  return std::pow((y + t.offset) / (1.0 + t.offset), gamma[c]);
+}
+
 double SyntheticResponse::ValueFromExposure(int c, double exposure) const {
   const double x = std::clamp(exposure / x_sat, 0.0, 1.0);
   if (x >= 1.0) return 255.0;
-  const double y = std::pow(x, 1.0 / gamma[c]);
+  const double y = Encode(c, x);
   return 255.0 * y * (1.0 + knee[c]) / (y + knee[c]);
 }
 
 double SyntheticResponse::ExposureFromValue(int c, double z) const {
   const double f = std::clamp(z / 255.0, 0.0, 1.0);
-  const double y = f * knee[c] / (1.0 + knee[c] - f);
-  return x_sat * std::pow(y, gamma[c]);
+  return x_sat * Decode(c, f * knee[c] / (1.0 + knee[c] - f));
 }
 
 ResponseCurve SyntheticResponse::Curve() const {

@@ -106,8 +106,12 @@ CapturePlan PlanCapture(const CaptureOptions& o) {
     throw UsageError("synth: --size must be between 16x16 and 8192x8192");
   }
   if (o.jpeg_quality < 1 || o.jpeg_quality > 100) throw UsageError("synth: JPEG quality 1..100");
+  if (!(o.toe >= 0 && o.toe <= 0.1)) {
+    throw UsageError("synth: --toe must be in [0, 0.1] (0 = a pure power law down to black)");
+  }
   CapturePlan plan;
   plan.options = o;
+  plan.response.toe = o.toe;
   plan.scene = MakeScene(o.scene);
   const double f = 0.9 * o.width;
   plan.camera = Camera::Pinhole(1, o.width, o.height, f, f, 0.5 * o.width, 0.5 * o.height);
@@ -313,8 +317,11 @@ CaptureSummary WriteCapture(const CaptureOptions& options, const fs::path& out) 
     times.push_back(plan.photos[static_cast<size_t>(s * options.views)].exposure_time_s);
   }
   j["exposure_times_s"] = times;
-  j["response"] = {{"model", "z = 255 h(x^(1/gamma)), h(y) = y (1 + k) / (y + k), x = X / x_sat"},
+  j["response"] = {{"model",
+                    "z = 255 h(s(x)), s(x) = phi x below x = toe, (1 + a) x^(1/gamma) - a above "
+                    "(value and slope continuous), h(y) = y (1 + k) / (y + k), x = X / x_sat"},
                    {"gamma_bgr", response.gamma},
+                   {"toe", response.toe},
                    {"knee_bgr", response.knee},
                    {"x_sat", response.x_sat},
                    {"noise_shot", response.shot},

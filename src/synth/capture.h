@@ -25,6 +25,8 @@ struct CaptureOptions {
   double ev_step = 2.0;  // stops between consecutive series
   int jpeg_quality = 95;
   int threads = 0;  // 0 = hardware concurrency
+  // End of the camera response's linear toe (SyntheticResponse::toe; 0 = pure power law).
+  double toe = SyntheticResponse{}.toe;
 };
 
 // One planned photo or novel view.

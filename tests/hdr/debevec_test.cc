@@ -116,7 +116,8 @@ TEST(CalibrateDebevec, FlatSamplesAvoidMisalignedEdges) {
   const ResponseCurve got_trim = CalibrateDebevec(stack, trimmed);
   const ResponseCurve got_def = CalibrateDebevec(stack);
   // Measured (30-245 DN, B/G/R): every candidate 0.115 / 0.100 / 0.079; flattest 30% 0.004 /
-  // 0.003 / 0.004; trimmed refit 0.019 / 0.010 / 0.010; the defaults (both) 0.002.
+  // 0.003 / 0.004; trimmed refit 0.003 / 0.003 / 0.005 (0.019 / 0.010 / 0.010 with its first
+  // round alone); the defaults (both) 0.002.
   for (int c = 0; c < 3; ++c) {
     std::printf("channel %d: RMS 30-245 DN all %.4f flat %.4f trimmed %.4f defaults %.4f\n", c,
                 RmsLinearError(all, truth, c, 30), RmsLinearError(got, truth, c, 30),
@@ -148,10 +149,16 @@ TEST(CalibrateDebevec, IgnoresPixelsMaskedInvalid) {
   unmasked.masks.clear();
   const ResponseCurve spoiled = CalibrateDebevec(unmasked, Plain());
   EXPECT_GT(RmsLinearError(spoiled, response.Truth(), 1), 0.03);
-  // The defaults' flat-sample selection skips the noisy stripes even unmasked (measured
-  // 0.001 / 0.008 / 0.006 against 1.7 / 1.7 / 2.4 for the plain method).
+  // The defaults' flat-sample selection and trimmed refit skip the noisy stripes even
+  // unmasked (1.7 / 1.7 / 2.4 for the plain method; a per-bin trim without the first, global
+  // round kept some: 0.19 / 0.10 / 0.13).
   const ResponseCurve flat_only = CalibrateDebevec(unmasked);
-  for (int c = 0; c < 3; ++c) EXPECT_LE(RmsLinearError(flat_only, response.Truth(), c), 0.03) << c;
+  for (int c = 0; c < 3; ++c) {
+    std::printf("channel %d: unmasked stripes, RMS 10-245 DN %.4f (plain %.4f)\n", c,
+                RmsLinearError(flat_only, response.Truth(), c),
+                RmsLinearError(spoiled, response.Truth(), c));
+    EXPECT_LE(RmsLinearError(flat_only, response.Truth(), c), 0.03) << c;
+  }
   const ResponseCurve got = CalibrateDebevec(stack);
   const ResponseCurve truth = response.Truth();
   for (int c = 0; c < 3; ++c) EXPECT_LE(RmsLinearError(got, truth, c), 0.03) << c;

@@ -80,27 +80,28 @@ TEST_F(HdrSetIoTest, CalibrationAndMergeMeetTargetsAndRoundTrip) {
   EXPECT_FALSE(fs::exists(opt.output));  // planning writes nothing
   const HdrPhotoSet set = WriteHdrPhotoSet(plan, GtStacks(plan), opt);
 
-  // Issue 6 target: RMS <= 3% of linear exposure over 10-245 DN. NOT reached on the synthetic
-  // camera (measured B/G/R 0.077/0.065/0.019; 0.81/0.25/0.12 with Debevec's plain method):
-  // below ~25 DN its read noise (3e-4 of saturation) is 30-100% of the signal of the steep
-  // gamma-2.5/2.2/1.9 curves, so noisy dark samples bias g there; the trimmed refit drops
-  // most of them. Over 30-245 DN it is met (0.024/0.018/0.003), and noise-free stacks meet it
-  // everywhere (below). The bounds are regression bounds just above the measured figures.
+  // Issue 6 target: RMS <= 3% of linear exposure over 10-245 DN. Measured B/G/R 0.0075 /
+  // 0.0077 / 0.0073 with the two-round trimmed refit; its first (global) round alone gives
+  // 0.017 / 0.025 / 0.011, Debevec's plain method 0.81 / 0.25 / 0.12 on the synthetic camera
+  // before its linear toe (0.077 / 0.065 / 0.019 with the defaults then: its read noise
+  // covered the lowest ~25 codes of the pure power law). Bound: the regression bound 0.015
+  // (the target itself is 0.03).
   const ResponseCurve truth = ReadResponseCurve(*dir_ / "calib" / "response.json");
   const ResponseCurve got = ReadResponseCurve(set.folder / set.response_file);
-  const double bound[3] = {0.1, 0.08, 0.03};
   for (int c = 0; c < 3; ++c) {
     const double rms = RmsLinearError(got, truth, c), rms30 = RmsLinearError(got, truth, c, 30);
     std::printf(
         "[ figures  ] aligned GT stacks: response channel %d RMS linear error %.4f over "
         "10-245 DN (target 0.03), %.4f over 30-245 DN\n",
         c, rms, rms30);
-    EXPECT_LE(rms, bound[c]) << "channel " << c;
+    EXPECT_LE(rms, 0.015) << "channel " << c;
   }
   {
     // Noise-free stacks: the defaults meet the target in every channel (measured
-    // 0.002/0.008/0.004). Debevec's plain smoothness in z pulls the dark end of the gamma-2.5
-    // blue curve toward a line (measured 0.073), the smoothness in ln(z + 0.5) alone does not.
+    // 0.004/0.004/0.004), and so does Debevec's plain method (0.004/0.004/0.005): the linear
+    // toe is straight in ln z and nearly so in z. (Before the toe, the smoothness in z pulled
+    // the dark end of the gamma-2.5 blue curve toward a line: 0.073; LogCodeSmoothness in
+    // debevec_test.cc keeps that case.)
     HdrPhotoSet clean = plan;
     clean.folder = test::TempDir("hdr_set_io_clean") / "hdr";
     const std::vector<ExposureStack> clean_stacks = GtStacks(plan, false);
@@ -125,7 +126,6 @@ TEST_F(HdrSetIoTest, CalibrationAndMergeMeetTargetsAndRoundTrip) {
       EXPECT_LE(rms, 0.015) << "channel " << c;
       EXPECT_LE(RmsLinearError(g4, truth, c), 0.015) << "channel " << c;
     }
-    EXPECT_GT(RmsLinearError(g3, truth, 0), 0.05);
   }
   std::vector<double> errors;
   for (const HdrSetView& v : set.views) {

@@ -157,15 +157,44 @@ TEST(SyntheticResponse, IsInvertibleNonLinearAndPerChannel) {
     EXPECT_GT(r.ValueFromExposure(c, 0.5 * r.x_sat), 170.0);
     EXPECT_EQ(r.ValueFromExposure(c, 2 * r.x_sat), 255.0);
   }
-  // Per channel: blue and red differ by several levels in the shadows.
+  // Per channel: blue and red differ by several levels in the shadows (5.2 at 1% of
+  // saturation; the linear toe brings the curves closer together below that).
   EXPECT_GT(
-      std::abs(r.ValueFromExposure(2, 0.02 * r.x_sat) - r.ValueFromExposure(0, 0.02 * r.x_sat)),
+      std::abs(r.ValueFromExposure(2, 0.01 * r.x_sat) - r.ValueFromExposure(0, 0.01 * r.x_sat)),
       5.0);
   const ResponseCurve curve = r.Curve();
   ASSERT_EQ(curve.log_inverse[1].size(), 256u);
   for (int c = 0; c < 3; ++c) {
     for (int z = 1; z < 256; ++z) EXPECT_GT(curve.log_inverse[c][z], curve.log_inverse[c][z - 1]);
     EXPECT_NEAR(curve.log_inverse[c][255], std::log(r.x_sat), 1e-12);
+  }
+}
+
+TEST(SyntheticResponse, LinearToeJoinsTheGammaCurveSmoothly) {
+  const SyntheticResponse r;
+  SyntheticResponse pure = r;
+  pure.toe = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    // Linear below the toe: half the exposure gives half the value.
+    const double below = 0.5 * r.toe * r.x_sat;
+    EXPECT_NEAR(r.Encode(c, 0.5 * r.toe), 2.0 * r.Encode(c, 0.25 * r.toe), 1e-12);
+    EXPECT_NEAR(r.ExposureFromValue(c, r.ValueFromExposure(c, below)), below, 1e-15);
+    // Value and slope continuous at the toe (one-sided differences over 1e-7 of it).
+    const double h = 1e-7 * r.toe;
+    const double left = r.Encode(c, r.toe - h), at = r.Encode(c, r.toe),
+                 right = r.Encode(c, r.toe + h);
+    EXPECT_NEAR(left, at, 1e-6 * at);
+    EXPECT_NEAR((at - left) / h, (right - at) / h, 1e-4 * (at - left) / h);
+    EXPECT_NEAR(r.Encode(c, 1.0), 1.0, 1e-12);
+    // The toe lies in the lowest codes (about 24-27): the curve above is the gamma curve, and
+    // code 10 is well above the read noise (the pure power law puts it below: SNR < 1).
+    const double toe_code = r.ValueFromExposure(c, r.toe * r.x_sat);
+    EXPECT_GT(toe_code, 20.0);
+    EXPECT_LT(toe_code, 30.0);
+    EXPECT_GT(r.ExposureFromValue(c, 10.0) / r.x_sat, 3.0 * r.read) << c;
+    EXPECT_LT(pure.ExposureFromValue(c, 10.0) / pure.x_sat, r.read) << c;
+    // Without a toe: the pure power law s(x) = x^(1/gamma) of captures made before it.
+    EXPECT_NEAR(pure.Encode(c, 0.2), std::pow(0.2, 1.0 / pure.gamma[c]), 1e-12);
   }
 }
 
