@@ -296,14 +296,14 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
       // reference exposure (and any gross outlier). Per bin because the dark and bright ends
       // are noisier in ln E: the first round alone drops nearly all of their samples, leaving
       // those ends to the smoothness term.
+      constexpr double kOutlier = 10.0;  // round 1: x the median residual, dropped in any bin
       std::vector<double> residual(samples.size());
       for (int round = 0; round < 2; ++round) {
         for (size_t i = 0; i < samples.size(); ++i) {
           residual[i] = SampleResidual(samples[i], log_t, g);
         }
-        // Round 0: one group, no gross cut; round 1: the intensity bins, and residuals over
-        // kOutlier x the median dropped in any bin.
-        constexpr double kOutlier = 10.0;
+        // Round 0: one group, no gross cut; round 1: the intensity bins and the gross cut
+        // (none where the median residual is 0: exact data).
         std::vector<int> group(samples.size(), 0);
         double gross = std::numeric_limits<double>::infinity();
         if (round == 1) {
@@ -311,7 +311,7 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
           std::vector<double> sorted = residual;
           const auto mid = sorted.begin() + static_cast<long>(sorted.size() / 2);
           std::nth_element(sorted.begin(), mid, sorted.end());
-          gross = kOutlier * *mid;
+          if (*mid > 0) gross = kOutlier * *mid;
         }
         std::fill(use.begin(), use.end(), 1);
         TrimWorst(residual, group, options.trim, gross, use);
