@@ -40,12 +40,23 @@ Toe ToeOf(double gamma, double toe) {
   return {offset, (1.0 + offset) * root / (toe * gamma)};
 }
 
+// s_c(x) with the channel's toe constants computed once (Expose's per-pixel loop).
+double EncodeWith(const Toe& t, double toe, double gamma, double x) {
+  if (x < toe) return t.slope * x;
+  return (1.0 + t.offset) * std::pow(x, 1.0 / gamma) - t.offset;
+}
+
+// 255 f_c(x) for x = X / x_sat >= 0 (ValueFromExposure).
+double ValueWith(const SyntheticResponse& r, const Toe& t, int c, double x) {
+  if (x >= 1.0) return 255.0;
+  const double y = EncodeWith(t, r.toe, r.gamma[c], x);
+  return 255.0 * y * (1.0 + r.knee[c]) / (y + r.knee[c]);
+}
+
 }  // namespace
 
 double SyntheticResponse::Encode(int c, double x) const {
-  const Toe t = ToeOf(gamma[c], toe);
-  if (x < toe) return t.slope * x;
-  return (1.0 + t.offset) * std::pow(x, 1.0 / gamma[c]) - t.offset;
+  return EncodeWith(ToeOf(gamma[c], toe), toe, gamma[c], x);
 }
 
 double SyntheticResponse::Decode(int c, double y) const {
@@ -55,10 +66,7 @@ double SyntheticResponse::Decode(int c, double y) const {
 }
 
 double SyntheticResponse::ValueFromExposure(int c, double exposure) const {
-  const double x = std::clamp(exposure / x_sat, 0.0, 1.0);
-  if (x >= 1.0) return 255.0;
-  const double y = Encode(c, x);
-  return 255.0 * y * (1.0 + knee[c]) / (y + knee[c]);
+  return ValueWith(*this, ToeOf(gamma[c], toe), c, std::clamp(exposure / x_sat, 0.0, 1.0));
 }
 
 double SyntheticResponse::ExposureFromValue(int c, double z) const {
@@ -82,6 +90,8 @@ cv::Mat SyntheticResponse::Expose(const cv::Mat& radiance, double time_s, std::u
                                   int threads) const {
   CV_Assert(radiance.type() == CV_32FC3);
   cv::Mat out(radiance.size(), CV_8UC3);
+  const std::array<Toe, 3> toes = {ToeOf(gamma[0], toe), ToeOf(gamma[1], toe),
+                                   ToeOf(gamma[2], toe)};
   // One generator per row, seeded from (noise_seed, row): the same bytes for any thread count.
   ParallelRows(radiance.rows, threads, [&](int y) {
     SplitMix64 rng(noise_seed ^ (0xD1B54A32D192ED03ull * static_cast<std::uint64_t>(y + 1)));
@@ -92,7 +102,8 @@ cv::Mat SyntheticResponse::Expose(const cv::Mat& radiance, double time_s, std::u
         const double xn = std::max(0.0, double(l[c]) * time_s / x_sat);
         const double sigma = std::sqrt(shot * xn + read * read);
         const double noisy = std::max(0.0, xn + sigma * rng.Gaussian());
-        z[c] = static_cast<std::uint8_t>(std::lround(ValueFromExposure(c, noisy * x_sat)));
+        z[c] = static_cast<std::uint8_t>(
+            std::lround(ValueWith(*this, toes[c], c, std::min(noisy, 1.0))));
       }
     }
   });
