@@ -54,6 +54,8 @@ int Run(const BenchDepthOptions& opt) {
   for (const auto& s : SplitList(opt.rasters)) rasters.push_back(render::ParsePointRaster(s));
 
   gl::HeadlessContext context;
+  spdlog::info("OpenGL {} on {} (EGL {} platform)", context.Version(), context.Renderer(),
+               context.platform());
   const gl::ShaderLibrary shaders;
   render::DepthPass pass(shaders);
   nlohmann::json results = nlohmann::json::array();
@@ -140,6 +142,7 @@ int Run(const BenchDepthOptions& opt) {
   nlohmann::json doc = {{"benchmark", "depth"},
                         {"renderer", context.Renderer()},
                         {"gl_version", context.Version()},
+                        {"egl_platform", context.platform()},
                         {"results", results},
                         {"lechelek_over_marroquim", ratios}};
 
