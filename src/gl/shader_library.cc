@@ -84,6 +84,7 @@ std::string ShaderLibrary::MapLog(const std::string& log) const {
 }
 
 Program ShaderLibrary::Build(const std::vector<std::string>& names, const Defines& defines) const {
+  built_.push_back({names, defines});
   Program program = Program::Create();
   std::vector<Shader> shaders;
   for (const std::string& name : names) {

@@ -42,6 +42,14 @@ class ShaderLibrary {
   // Index -> file name used in #line directives.
   const std::vector<std::string>& file_names() const { return names_; }
 
+  // A program built through this library: its stage files and defines.
+  struct Variant {
+    std::vector<std::string> names;
+    Defines defines;
+  };
+  // Every program Build() was asked for, in order (for the shader portability test).
+  const std::vector<Variant>& built() const { return built_; }
+
  private:
   void Expand(const std::string& name, std::vector<std::string>& stack, std::string& out) const;
   int IndexOf(const std::string& name) const;
@@ -49,6 +57,7 @@ class ShaderLibrary {
 
   std::map<std::string, std::string> sources_;
   std::vector<std::string> names_;
+  mutable std::vector<Variant> built_;
 };
 
 }  // namespace hdribr::gl
