@@ -25,44 +25,47 @@ double SplitMix64::Gaussian() {
 
 namespace {
 
-// The toe of s(x): offset a and slope phi for which phi x and (1 + a) x^(1/gamma) - a meet
-// with equal value and slope at x = toe (a = c / (1 - c), c = toe^(1/gamma) (1 - 1/gamma)).
+// s(x) of one channel: its gamma, the toe's end, and the offset a and slope phi for which
+// phi x and (1 + a) x^(1/gamma) - a meet with equal value and slope at x = end
+// (a = c / (1 - c), c = end^(1/gamma) (1 - 1/gamma)).
 struct Toe {
+  double gamma = 1.0;
+  double end = 0.0;
   double offset = 0.0;
   double slope = 0.0;
 };
 
-Toe ToeOf(double gamma, double toe) {
-  if (toe <= 0.0) return {};
-  const double root = std::pow(toe, 1.0 / gamma);
+Toe ToeOf(double gamma, double end) {
+  if (end <= 0.0) return {gamma, 0.0, 0.0, 0.0};
+  const double root = std::pow(end, 1.0 / gamma);
   const double c = root * (1.0 - 1.0 / gamma);
   const double offset = c / (1.0 - c);
-  return {offset, (1.0 + offset) * root / (toe * gamma)};
+  return {gamma, end, offset, (1.0 + offset) * root / (end * gamma)};
 }
 
 // s_c(x) with the channel's toe constants computed once (Expose's per-pixel loop).
-double EncodeWith(const Toe& t, double toe, double gamma, double x) {
-  if (x < toe) return t.slope * x;
-  return (1.0 + t.offset) * std::pow(x, 1.0 / gamma) - t.offset;
+double EncodeWith(const Toe& t, double x) {
+  if (x < t.end) return t.slope * x;
+  return (1.0 + t.offset) * std::pow(x, 1.0 / t.gamma) - t.offset;
 }
 
 // 255 f_c(x) for x = X / x_sat >= 0 (ValueFromExposure).
 double ValueWith(const SyntheticResponse& r, const Toe& t, int c, double x) {
   if (x >= 1.0) return 255.0;
-  const double y = EncodeWith(t, r.toe, r.gamma[c], x);
+  const double y = EncodeWith(t, x);
   return 255.0 * y * (1.0 + r.knee[c]) / (y + r.knee[c]);
 }
 
 }  // namespace
 
 double SyntheticResponse::Encode(int c, double x) const {
-  return EncodeWith(ToeOf(gamma[c], toe), toe, gamma[c], x);
+  return EncodeWith(ToeOf(gamma[c], toe), x);
 }
 
 double SyntheticResponse::Decode(int c, double y) const {
   const Toe t = ToeOf(gamma[c], toe);
-  if (y < t.slope * toe) return y / t.slope;
-  return std::pow((y + t.offset) / (1.0 + t.offset), gamma[c]);
+  if (y < t.slope * t.end) return y / t.slope;
+  return std::pow((y + t.offset) / (1.0 + t.offset), t.gamma);
 }
 
 double SyntheticResponse::ValueFromExposure(int c, double exposure) const {
