@@ -8,6 +8,36 @@
 
 namespace hdribr::cli {
 
+const FlagNames& CaptureFlags() {
+  static const FlagNames flags = {{"series", "--series"},     {"views", "--views"},
+                                  {"novel_views", "--novel"}, {"ev_step", "--ev-step"},
+                                  {"threads", "--threads"},   {"toe", "--toe"},
+                                  {"width", "--size width"},  {"height", "--size height"}};
+  return flags;
+}
+
+const FlagNames& ReconstructFlags() {
+  static const FlagNames flags = {{"max_features", "--max-features"},
+                                  {"sift_max_size", "--sift-size"},
+                                  {"undistort_max_size", "--image-size"},
+                                  {"dense_options.max_size", "--dense-size"},
+                                  {"dense_options.num_depths", "--dense-depths"},
+                                  {"dense_options.num_neighbors", "--dense-neighbors"},
+                                  {"threads", "--threads"},
+                                  {"vocab_tree", "--vocab-tree"}};
+  return flags;
+}
+
+int RunNamingFlags(const FlagNames& flags, const std::function<int()>& run) {
+  try {
+    return run();
+  } catch (const OptionError& e) {
+    const auto flag = flags.find(e.field());
+    if (flag == flags.end()) throw;
+    throw UsageError(flag->second + " " + e.problem());
+  }
+}
+
 cv::Size ParseSize(const std::string& text, const std::string& option) {
   int w = 0, h = 0;
   char x = 0, extra = 0;

@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <climits>
 #include <cstdio>
+#include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <string>
@@ -15,6 +17,16 @@ namespace hdribr::cli {
 // print the largest double in their errors).
 inline const CLI::Range kAtLeastZero(0, INT_MAX);
 inline const CLI::Range kAtLeastOne(1, INT_MAX);
+
+// Member of an options struct (OptionError::field) -> the command-line flag that sets it.
+using FlagNames = std::map<std::string, std::string>;
+// The flags of synth::CaptureOptions and ReconstructOptions (shared by the subcommands that
+// bind them: synth, reconstruct, demo).
+const FlagNames& CaptureFlags();
+const FlagNames& ReconstructFlags();
+// Runs `run`; an OptionError it throws is rethrown as a UsageError that names the flag of its
+// field, so that library code speaks of its own fields and the CLI of its flags.
+int RunNamingFlags(const FlagNames& flags, const std::function<int()>& run);
 
 // "640x480" (or "640X480") -> size; throws UsageError naming `option` for anything else,
 // including non-positive sizes or sides above 16384.

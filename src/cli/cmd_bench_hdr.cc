@@ -1,4 +1,4 @@
-// `hdribr bench hdr --capture DIR`: the three HDR render modes (issue 6) on a
+// `hdribr bench hdr --capture DIR`: the three HDR render modes on a
 // synthetic capture's ground-truth novel views: radiance error after a scale
 // fit and frame time.
 #include <spdlog/spdlog.h>
@@ -14,6 +14,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -138,9 +139,7 @@ CommandRunner SetupBenchHdr(CLI::App& sub) {
   sub.add_option("--response", opt->response, "Response file for building the set");
   sub.add_option("--repeats", opt->repeats, "Frames per view (the median is reported)")
       ->capture_default_str();
-  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest side of photos on the GPU")
-      ->capture_default_str()
-      ->check(kAtLeastZero);
+  AddMaxPhotoSizeOption(sub, opt->max_photo_size);
   sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout");
   return [opt] { return Run(*opt); };
 }

@@ -2,6 +2,7 @@
 // (cv::CalibrateDebevec + cv::MergeDebevec) on the same stack, wall time and agreement.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -158,14 +159,20 @@ CommandRunner SetupBenchMerge(CLI::App& sub) {
   sub.add_option("--repeats", opt->repeats, "Repetitions (the median is reported)")
       ->capture_default_str();
   sub.add_option("--samples", opt->samples, "hdribr calibration samples per channel")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kAtLeastOne);
   sub.add_option("--opencv-samples", opt->opencv_samples, "OpenCV calibration samples")
       ->capture_default_str();
   sub.add_option("--lambda", opt->lambda, "hdribr smoothness weight")->capture_default_str();
   sub.add_option("--opencv-lambda", opt->opencv_lambda, "OpenCV smoothness weight")
       ->capture_default_str();
   sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout");
-  return [opt] { return Run(*opt); };
+  return [opt] {
+    if (!(opt->lambda >= 0) || !std::isfinite(opt->lambda)) {
+      throw UsageError("--lambda must be a non-negative number");
+    }
+    return Run(*opt);
+  };
 }
 
 }  // namespace hdribr::cli

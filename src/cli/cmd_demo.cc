@@ -221,7 +221,11 @@ CommandRunner SetupDemo(CLI::App& sub) {
   sub.add_option("--size", opt->size, "Size of the synthetic photos, WxH")->default_val("640x480");
   sub.add_option("--series", opt->series, "Exposure series of the capture")->default_val(3);
   sub.add_option("--views", opt->views, "Views per series")->default_val(16);
-  return [opt] { return Run(*opt); };
+  return [opt] {
+    FlagNames flags = CaptureFlags();
+    flags.insert(ReconstructFlags().begin(), ReconstructFlags().end());
+    return RunNamingFlags(flags, [&] { return Run(*opt); });
+  };
 }
 
 }  // namespace hdribr::cli

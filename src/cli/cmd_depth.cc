@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <memory>
-#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -17,6 +17,7 @@
 #include "io/atomic_file.h"
 #include "io/camera_spec.h"
 #include "io/exr.h"
+#include "io/false_colour.h"
 #include "io/image.h"
 #include "io/workspace.h"
 #include "render/depth_pass.h"
@@ -37,27 +38,16 @@ struct DepthOptions {
 
 // Depth as a turbo colour map between the 1st and 99th percentiles of the valid depths
 // (near = red end), invalid pixels black.
-cv::Mat FalseColour(const cv::Mat& depth) {
+cv::Mat DepthFalseColour(const cv::Mat& depth) {
   std::vector<float> values;
   for (auto it = depth.begin<float>(); it != depth.end<float>(); ++it) {
     if (*it > 0) values.push_back(*it);
   }
-  cv::Mat out(depth.size(), CV_8UC3, cv::Scalar(0, 0, 0));
-  if (values.empty()) return out;
+  if (values.empty()) return cv::Mat(depth.size(), CV_8UC3, cv::Scalar(0, 0, 0));
   std::sort(values.begin(), values.end());
   const float lo = values[values.size() / 100];
   const float hi = std::max(values[values.size() * 99 / 100], lo * 1.0001f);
-  cv::Mat gray(depth.size(), CV_8UC1);
-  for (int y = 0; y < depth.rows; ++y) {
-    for (int x = 0; x < depth.cols; ++x) {
-      const float t = std::clamp((hi - depth.at<float>(y, x)) / (hi - lo), 0.0f, 1.0f);
-      gray.at<uint8_t>(y, x) = static_cast<uint8_t>(t * 255.0f + 0.5f);
-    }
-  }
-  cv::Mat colour;
-  cv::applyColorMap(gray, colour, cv::COLORMAP_TURBO);
-  colour.copyTo(out, depth > 0);
-  return out;
+  return FalseColour(-depth, -hi, -lo, depth > 0);
 }
 
 int Run(const DepthOptions& opt) {
@@ -99,7 +89,7 @@ int Run(const DepthOptions& opt) {
   std::filesystem::path png = out;
   png.replace_extension(".png");
   WriteExr(out, images.depth, ExrPixel::kFloat, "Z");
-  WriteImage(png, FalseColour(images.depth));
+  WriteImage(png, DepthFalseColour(images.depth));
 
   double lo = 0, hi = 0;
   cv::minMaxLoc(images.depth, nullptr, &hi);

@@ -9,6 +9,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "eval/leave_one_out.h"
 #include "gl/context.h"
@@ -29,11 +30,7 @@ struct EvalCliOptions {
   double size_scale = 0.5;
   bool no_baselines = false;
   std::string point_colors = "photos";
-  std::string depth_mode = "lechelek";
-  int max_photo_size = 0;
-  int k_best = 0;
-  std::string weights = "ulr";
-  float tolerance = render::BlendOptions().occlusion_tolerance;
+  render::RendererOptions renderer;  // depth mode, blend options, photo size
 };
 
 int Run(const EvalCliOptions& opt) {
@@ -45,16 +42,22 @@ int Run(const EvalCliOptions& opt) {
   options.out_dir = opt.out;
   options.baselines = !opt.no_baselines;
   options.point_colors = opt.point_colors;
-  options.renderer.depth.mode = render::ParseDepthMode(opt.depth_mode);
-  options.renderer.max_photo_size = opt.max_photo_size;
-  options.renderer.blend.k_best = opt.k_best;
-  options.renderer.blend.weights = render::ParseBlendWeights(opt.weights);
-  options.renderer.blend.occlusion_tolerance = opt.tolerance;
-  render::ValidateBlendOptions(options.renderer.blend);
+  options.renderer = opt.renderer;
+  CheckBlendOptions(options.renderer.blend);
   if (!(opt.size_scale > 0.0 && opt.size_scale <= 1.0)) {
     throw UsageError("--size-scale must be in (0, 1], got " + std::to_string(opt.size_scale));
   }
+  if (opt.series == "all" && !opt.gt.empty()) {
+    throw UsageError("--series all applies to --leave-one-out only");
+  }
+  if (!opt.gt.empty() && !opt.photos.empty()) {
+    throw UsageError("--photos applies to --leave-one-out only");
+  }
+  CheckOutsideInputs(opt.workspace, opt.out);
   const Scene scene = LoadWorkspace(opt.workspace);
+  if (!opt.no_baselines && opt.point_colors == "cloud" && !scene.points.HasColors()) {
+    throw UsageError("--point-colors cloud: the point cloud has no colours");
+  }
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   const eval::EvalReport report = eval::RunEvaluation(scene, shaders, options);
@@ -92,19 +95,7 @@ CommandRunner SetupEval(CLI::App& sub) {
                  "Colours of the colour-per-point baseline: photos or cloud")
       ->default_val("photos")
       ->check(CLI::IsMember({"photos", "cloud"}));
-  sub.add_option("--depth-mode", opt->depth_mode, "plain, marroquim or lechelek")
-      ->default_val("lechelek")
-      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
-  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU")
-      ->check(kAtLeastZero);
-  sub.add_option("--k-best", opt->k_best,
-                 "K best photos per pixel (0: 4 for ulr, all for paper weights)");
-  sub.add_option("--weights", opt->weights,
-                 "Blending weights: ulr (Unstructured Lumigraph, K best) or paper (eq. 5, all)")
-      ->default_val("ulr")
-      ->check(CLI::IsMember({"paper", "ulr"}));
-  sub.add_option("--tolerance", opt->tolerance, "Occlusion test: relative depth tolerance")
-      ->capture_default_str();
+  AddRendererOptions(sub, opt->renderer);
   return [opt, loo, gt] {
     if (loo->count() == 0 && gt->count() == 0) {
       throw UsageError("eval: give --leave-one-out or --gt CAPTURE_DIR");

@@ -14,6 +14,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -168,10 +169,7 @@ CommandRunner SetupHdr(CLI::App& sub) {
   sub.add_option("--scale", opt->scale, "Render size relative to the views' cameras")
       ->capture_default_str();
   sub.add_flag("--no-aligned", opt->no_aligned, "Do not export the aligned LDR renders");
-  sub.add_option("--max-photo-size", opt->max_photo_size,
-                 "Longest side of photos on the GPU (0 = full size)")
-      ->capture_default_str()
-      ->check(kAtLeastZero);
+  AddMaxPhotoSizeOption(sub, opt->max_photo_size);
   sub.add_option("--truth", opt->truth,
                  "Synthetic capture folder (hdribr synth): report errors vs "
                  "its ground truth");

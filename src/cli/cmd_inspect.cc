@@ -9,6 +9,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "io/workspace.h"
@@ -20,7 +21,7 @@ namespace {
 struct InspectOptions {
   std::string workspace;
   bool json = false;
-  bool gpu = false;        // --gpu: GPU memory the renderer needs (helper A)
+  bool gpu = false;        // --gpu: GPU memory the renderer needs
   int max_photo_size = 0;  // with --gpu
 };
 
@@ -159,9 +160,7 @@ CommandRunner SetupInspect(CLI::App& sub) {
   sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
   sub.add_flag("--json", opt->json, "Print JSON instead of text");
   sub.add_flag("--gpu", opt->gpu, "Also load the photos on the GPU and report the memory used");
-  sub.add_option("--max-photo-size", opt->max_photo_size,
-                 "With --gpu: longest photo side on the GPU (0 = full size)")
-      ->check(kAtLeastZero);
+  AddMaxPhotoSizeOption(sub, opt->max_photo_size);
   return [opt] { return Run(*opt); };
 }
 

@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "cli/cli_util.h"
 #include "cli/command.h"
 #include "frontend/reconstruct.h"
 
@@ -54,7 +55,7 @@ CommandRunner SetupReconstruct(CLI::App& sub) {
                  "Source photos per depth map")
       ->capture_default_str();
   sub.add_option("--threads", opt->threads, "Threads (0: all cores)")->capture_default_str();
-  return [opt] { return Run(*opt); };
+  return [opt] { return RunNamingFlags(ReconstructFlags(), [&] { return Run(*opt); }); };
 }
 
 }  // namespace hdribr::cli

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -14,11 +15,13 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "hdr/response_curve.h"
 #include "io/camera_spec.h"
+#include "io/false_colour.h"
 #include "io/image.h"
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
@@ -40,17 +43,11 @@ struct RenderCliOptions {
   std::string size;
   std::string debug;
   std::vector<std::string> exclude;
-  int k_best = 0;
-  std::string weights = "ulr";
-  std::string mode = "blend";
-  std::string depth_mode = "lechelek";
-  int max_photo_size = 0;
-  float lambda = 1e-4f;
-  float tolerance = 0.01f;
-  // HDR (helper C): render mode and Reinhard tone mapping of the PNG output.
-  std::string hdr_mode;  // empty = LDR rendering
-  std::string hdr_set;   // default WORKSPACE/hdr
-  std::string response;  // default: the HDR set's response.json
+  render::RendererOptions renderer;  // depth mode, blend options, photo size
+  // HDR: render mode and Reinhard tone mapping of the PNG output.
+  std::optional<render::HdrMode> hdr_mode;  // unset = LDR rendering
+  std::string hdr_set;                      // default WORKSPACE/hdr
+  std::string response;                     // default: the HDR set's response.json
   double exposure_ev = 0;
   double key = 0.18;
   double gamma = 2.2;
@@ -117,7 +114,7 @@ void WriteOutput(const std::filesystem::path& out, const render::RenderImages& i
             }(),
             depth_valid);
       } else {
-        WriteImage(out, render::FalseColour(im.count, 0, std::max(1, photo_count), depth_valid));
+        WriteImage(out, FalseColour(im.count, 0, std::max(1, photo_count), depth_valid));
       }
       return;
     case DebugRequest::kWeight:
@@ -126,7 +123,7 @@ void WriteOutput(const std::filesystem::path& out, const render::RenderImages& i
         cv::merge(std::vector<cv::Mat>{im.weight, im.weight, im.weight}, c);
         render::WriteRgbaExr(out, c, im.valid);
       } else {
-        WriteImage(out, render::FalseColour(im.weight, 0, 1, im.valid));
+        WriteImage(out, FalseColour(im.weight, 0, 1, im.valid));
       }
       return;
     case DebugRequest::kDepth: {
@@ -137,7 +134,7 @@ void WriteOutput(const std::filesystem::path& out, const render::RenderImages& i
         cv::merge(std::vector<cv::Mat>{im.depth, im.depth, im.depth}, c);
         render::WriteRgbaExr(out, c, depth_valid);
       } else {
-        WriteImage(out, render::FalseColour(-im.depth, -hi, -lo, depth_valid));  // near = red
+        WriteImage(out, FalseColour(-im.depth, -hi, -lo, depth_valid));  // near = red
       }
       return;
     }
@@ -174,20 +171,10 @@ std::string SafeStem(const std::string& name) {
   return s.empty() ? "view" : s;
 }
 
-// HDR rendering (issue 6): `--hdr-mode precomputed|onthefly|direct`; PNG = tone-mapped on the
-// GPU (Reinhard 2002, --exposure/--key/--gamma/--log-average), EXR = linear radiance + alpha.
-render::BlendOptions BlendOptionsFrom(const RenderCliOptions& opt) {
-  render::BlendOptions b;
-  b.mode = opt.mode == "nearest" ? render::BlendMode::kNearestPhoto : render::BlendMode::kBlend;
-  b.weights = render::ParseBlendWeights(opt.weights);
-  b.k_best = opt.k_best;
-  b.lambda = opt.lambda;
-  b.occlusion_tolerance = opt.tolerance;
-  return b;
-}
-
+// HDR rendering: `--hdr-mode precomputed|onthefly|direct`; PNG = tone-mapped on the GPU
+// (Reinhard 2002, --exposure/--key/--gamma/--log-average), EXR = linear radiance + alpha.
 int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<View>& views) {
-  const render::HdrMode mode = render::ParseHdrMode(opt.hdr_mode);
+  const render::HdrMode mode = *opt.hdr_mode;
   if (!opt.debug.empty() || !opt.exclude.empty()) {
     throw UsageError("--debug and --exclude are not available with --hdr-mode");
   }
@@ -202,11 +189,7 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
   }
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
-  render::RendererOptions ro;
-  ro.depth.mode = render::ParseDepthMode(opt.depth_mode);
-  ro.max_photo_size = opt.max_photo_size;
-  ro.blend = BlendOptionsFrom(opt);
-  render::HdrRenderer renderer(shaders, scene, mode, response, ro, set ? &*set : nullptr);
+  render::HdrRenderer renderer(shaders, scene, mode, response, opt.renderer, set ? &*set : nullptr);
   render::TonemapPass tonemap(shaders);
   render::TonemapOptions tm;
   tm.key = static_cast<float>(opt.key);
@@ -252,8 +235,7 @@ int Run(const RenderCliOptions& opt) {
   if (!opt.camera.empty() && opt.out.empty()) throw UsageError("render: --camera needs --out");
   if (!opt.path.empty() && opt.out_dir.empty()) throw UsageError("render: --path needs --out-dir");
   if (!opt.out.empty()) CheckOutputExtension(opt.out);
-  render::ValidateBlendOptions(BlendOptionsFrom(opt));
-  const render::DepthMode depth_mode = render::ParseDepthMode(opt.depth_mode);
+  CheckBlendOptions(opt.renderer.blend);
   if (!(opt.key > 0) || !(opt.gamma > 0) || !(opt.log_average >= 0) ||
       !std::isfinite(opt.exposure_ev) || !std::isfinite(opt.key) || !std::isfinite(opt.gamma) ||
       !std::isfinite(opt.log_average)) {
@@ -262,6 +244,8 @@ int Run(const RenderCliOptions& opt) {
         "finite");
   }
 
+  CheckOutsideInputs(opt.workspace, opt.out);
+  CheckOutsideInputs(opt.workspace, opt.out_dir);
   const Scene scene = LoadWorkspace(opt.workspace);
   if (scene.photos.empty()) throw InputError(opt.workspace, "the workspace has no photos");
   const DebugRequest debug = ParseDebug(opt.debug, scene);
@@ -283,14 +267,11 @@ int Run(const RenderCliOptions& opt) {
     if (!excluded[i]) active.push_back(static_cast<int>(i));
   }
   if (active.empty()) spdlog::warn("every photo is excluded: the output is all invalid");
-  if (!opt.hdr_mode.empty()) return RunHdr(opt, scene, views);
+  if (opt.hdr_mode) return RunHdr(opt, scene, views);
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
-  render::RendererOptions ro;
-  ro.depth.mode = depth_mode;
-  ro.max_photo_size = opt.max_photo_size;
-  ro.blend = BlendOptionsFrom(opt);
+  render::RendererOptions ro = opt.renderer;
   ro.blend.debug_photo = debug.photo;
   render::Renderer renderer(shaders, scene, ro);
   renderer.SetActivePhotos(active);
@@ -344,29 +325,15 @@ CommandRunner SetupRender(CLI::App& sub) {
   sub.add_option("--debug", opt->debug,
                  "Write a debug map instead of the colour: count, weight:PHOTO, depth, normal");
   sub.add_option("--exclude", opt->exclude, "Photos left out (names)");
-  sub.add_option("--k-best", opt->k_best,
-                 "K best photos per pixel (0: 4 for ulr, all for paper weights)")
-      ->default_val(0);
-  sub.add_option("--weights", opt->weights,
-                 "Blending weights: ulr (Unstructured Lumigraph, K best) or paper (eq. 5, all)")
-      ->default_val("ulr")
-      ->check(CLI::IsMember({"paper", "ulr"}));
-  sub.add_option("--mode", opt->mode, "blend (the paper) or nearest (single nearest photo)")
-      ->default_val("blend")
-      ->check(CLI::IsMember({"blend", "nearest"}));
-  sub.add_option("--depth-mode", opt->depth_mode, "Depth pass: plain, marroquim or lechelek")
-      ->default_val("lechelek")
-      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
-  sub.add_option("--max-photo-size", opt->max_photo_size,
-                 "Longest side of photos on the GPU (0 = full size)")
-      ->default_val(0)
-      ->check(kAtLeastZero);
-  sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold on N . V_k")->default_val(1e-4);
-  sub.add_option("--tolerance", opt->tolerance, "Relative depth tolerance of the occlusion test")
-      ->default_val(0.01);
+  AddRendererOptions(sub, opt->renderer);
+  sub.add_option("--mode", opt->renderer.blend.mode,
+                 "blend (the paper) or nearest (single nearest photo)")
+      ->transform(NamesTo(std::map<std::string, render::BlendMode>{
+          {"blend", render::BlendMode::kBlend}, {"nearest", render::BlendMode::kNearestPhoto}}))
+      ->default_str("blend");
   sub.add_option("--hdr-mode", opt->hdr_mode,
                  "HDR rendering: precomputed (HDR photo set), onthefly or direct")
-      ->check(CLI::IsMember({"precomputed", "onthefly", "direct"}));
+      ->transform(NamesTo(NameMap<render::HdrMode>(render::AllHdrModes(), render::HdrModeName)));
   // Options of HDR renders only: an LDR render refuses them rather than ignore them.
   const std::vector<const CLI::Option*> hdr_only = {
       sub.add_option("--hdr-set", opt->hdr_set, "HDR photo set folder (default WORKSPACE/hdr)"),
@@ -381,7 +348,7 @@ CommandRunner SetupRender(CLI::App& sub) {
           ->capture_default_str()};
   return [opt, hdr_only] {
     for (const CLI::Option* o : hdr_only) {
-      if (o->count() > 0 && opt->hdr_mode.empty()) {
+      if (o->count() > 0 && !opt->hdr_mode) {
         throw UsageError(o->get_name() + " applies to HDR renders: add --hdr-mode");
       }
     }

@@ -111,7 +111,7 @@ CommandRunner SetupBenchSynth(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--repeat", opt->repeat, "Runs (the best is reported)")->capture_default_str();
   sub.add_option("--json", opt->json, "Write the JSON to this file instead of stdout");
-  return [opt] { return RunBench(*opt); };
+  return [opt] { return RunNamingFlags(CaptureFlags(), [&] { return RunBench(*opt); }); };
 }
 
 CommandRunner SetupSynth(CLI::App& sub);
@@ -137,7 +137,7 @@ CommandRunner SetupSynth(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--preview", opt->preview,
                  "Also write a PNG: the first view at every series' exposure + its depth map");
-  return [opt] { return Run(*opt); };
+  return [opt] { return RunNamingFlags(CaptureFlags(), [&] { return Run(*opt); }); };
 }
 
 }  // namespace hdribr::cli

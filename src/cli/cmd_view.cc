@@ -5,9 +5,12 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
+#include "io/workspace.h"
 #include "render/renderer.h"
 #include "viewer/app.h"
+#include "viewer/view_state.h"
 
 namespace hdribr::cli {
 
@@ -23,26 +26,12 @@ CommandRunner SetupView(CLI::App& sub) {
                  "Initial view: photo name, \"QW QX QY QZ TX TY TZ [CAMERA_ID]\" or camera file");
   sub.add_option("--width", opt->width, "Window width (default: the camera's, <= 1280)");
   sub.add_option("--height", opt->height, "Window height");
-  sub.add_option("--hdr", opt->hdr, "Source: auto, ldr, precomputed, onthefly, direct")
-      ->default_val("auto")
-      ->check(CLI::IsMember({"auto", "ldr", "precomputed", "onthefly", "direct"}));
+  sub.add_option("--hdr", opt->source, "Source: auto, ldr, precomputed, onthefly, direct")
+      ->transform(NamesTo(EnumMap(viewer::HdrSourceNames())))
+      ->default_str("auto");
   sub.add_option("--series", opt->series, "LDR: blend only this exposure series (-1 = all)")
-      ->default_val(-1);
-  sub.add_option("--depth-mode", opt->depth_mode, "plain, marroquim or lechelek")
-      ->default_val("lechelek")
-      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
-  sub.add_option("--weights", opt->weights, "Blending weights: ulr or paper (eq. 5)")
-      ->default_val("ulr")
-      ->check(CLI::IsMember({"paper", "ulr"}));
-  sub.add_option("--k-best", opt->k_best, "K best photos (0: 4 for ulr, all for paper)")
-      ->default_val(0)
-      ->check(kAtLeastZero);
-  sub.add_option("--lambda", opt->lambda, "Grazing-angle threshold")->default_val(1e-4);
-  sub.add_option("--tolerance", opt->tolerance, "Occlusion tolerance (relative depth)")
-      ->default_val(0.01);
-  sub.add_option("--max-photo-size", opt->max_photo_size, "Longest photo side on the GPU")
-      ->default_val(0)
-      ->check(kAtLeastZero);
+      ->capture_default_str();
+  AddRendererOptions(sub, opt->renderer);
   sub.add_option("--tonemap", *tonemap, "Reinhard tone mapping: auto (on for HDR), on, off")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "on", "off"}));
@@ -58,9 +47,8 @@ CommandRunner SetupView(CLI::App& sub) {
                  "Scripted: write the whole window (picture + UI) of the last frame (.png)");
   sub.add_option("--display", opt->display,
                  "Display mode: final, depth, normals, classes, count, splats, nearest")
-      ->default_val("final")
-      ->check(
-          CLI::IsMember({"final", "depth", "normals", "classes", "count", "splats", "nearest"}));
+      ->transform(NamesTo(EnumMap(viewer::DisplayModeNames())))
+      ->default_str("final");
   sub.add_flag("--help-overlay", opt->show_help, "Open the key help overlay at start");
   sub.add_flag("--frustums", opt->show_frustums, "Draw the input camera frustums at start");
   sub.add_flag("--hide-panel", opt->hide_panel, "Start without the control panel (U shows it)");
@@ -69,6 +57,9 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_flag("--benchmark", opt->benchmark,
                "Print the cost of an exposure change vs a camera move, then exit");
   sub.add_flag("--hidden", opt->hidden, "Invisible window (tests)");
+  sub.add_option("--soak", opt->soak_frames, "Soak: N frames of camera and exposure steps")
+      ->check(kAtLeastZero)
+      ->group("");
   return [opt, tonemap, gamma] {
     if (*tonemap != "auto") opt->tonemap = *tonemap == "on";
     if (*gamma != 0) {
@@ -78,11 +69,7 @@ CommandRunner SetupView(CLI::App& sub) {
     if (!(opt->key > 0) || !std::isfinite(opt->key) || !std::isfinite(opt->exposure_ev)) {
       throw UsageError("--key must be finite and > 0, --exposure finite");
     }
-    render::BlendOptions blend;
-    blend.k_best = opt->k_best;
-    blend.lambda = opt->lambda;
-    blend.occlusion_tolerance = opt->tolerance;
-    render::ValidateBlendOptions(blend);
+    CheckBlendOptions(opt->renderer.blend);
     if ((!opt->screenshot.empty() || !opt->window_screenshot.empty()) && opt->frames == 0) {
       opt->frames = 3;
     }
@@ -90,6 +77,9 @@ CommandRunner SetupView(CLI::App& sub) {
     const auto ext = opt->screenshot.extension();
     if (!opt->screenshot.empty() && ext != ".png" && ext != ".exr") {
       throw UsageError("--screenshot must end in .png or .exr, got " + opt->screenshot.string());
+    }
+    for (const auto& out : {opt->screenshot, opt->window_screenshot, opt->record}) {
+      CheckOutsideInputs(opt->workspace, out);
     }
     return viewer::RunViewer(*opt);
   };

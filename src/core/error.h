@@ -20,6 +20,19 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An option value no computation can use. `field` names the member of the options struct, so
+// that a front end can name its own spelling of the option; what() is "<field> <problem>".
+class OptionError : public UsageError {
+ public:
+  OptionError(const std::string& field, const std::string& problem);
+  const std::string& field() const { return field_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string field_;
+  std::string problem_;
+};
+
 [[noreturn]] void CheckFailed(const char* file, int line, const char* expr, const std::string& msg);
 
 }  // namespace hdribr

@@ -11,6 +11,37 @@ int Scene::FindPhoto(const std::string& name) const {
   return -1;
 }
 
+double Scene::RelativeExposureOf(const Photo& photo) const {
+  if (photo.series_id >= 0 && static_cast<size_t>(photo.series_id) < series.size()) {
+    return series[static_cast<size_t>(photo.series_id)].relative_exposure;
+  }
+  return photo.exposure.Relative();
+}
+
+int Scene::NearestPhoto(const Rigid3d& cam_from_world) const {
+  std::vector<int> all(photos.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  return NearestPhoto(cam_from_world, all);
+}
+
+int Scene::NearestPhoto(const Rigid3d& cam_from_world, const std::vector<int>& candidates) const {
+  const Rigid3d world_from_cam = cam_from_world.Inverse();
+  const Eigen::Vector3d c = world_from_cam.translation;
+  const Eigen::Vector3d d = world_from_cam.rotation * Eigen::Vector3d::UnitZ();
+  int best = -1;
+  double best_score = 0;
+  for (int i : candidates) {
+    const Photo& photo = photos[static_cast<size_t>(i)];
+    const double score = (photo.Center() - c).norm() / std::max(scene_scale, 1e-12) +
+                         (1.0 - d.dot(photo.ViewDirection()));
+    if (best < 0 || score < best_score) {
+      best = i;
+      best_score = score;
+    }
+  }
+  return best;
+}
+
 void Scene::UpdateDerived() {
   point_bounds = Bounds();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();

@@ -10,6 +10,7 @@
 #include "core/exposure_series.h"
 #include "core/photo.h"
 #include "core/point_cloud.h"
+#include "core/rigid3.h"
 
 namespace hdribr {
 
@@ -30,6 +31,14 @@ struct Scene {
   const Camera& CameraOf(const Photo& photo) const { return cameras.at(photo.camera_id); }
   // Index of the photo with this name, or -1.
   int FindPhoto(const std::string& name) const;
+  // Relative exposure of a photo for radiance: its series' (shared by the series' photos), else
+  // the photo's own EXIF value.
+  double RelativeExposureOf(const Photo& photo) const;
+  // Index of the photo whose viewpoint is nearest a view, among `candidates` (indices into
+  // photos) or all photos: the smallest |C - C_k| / scene_scale + (1 - d . d_k), with C, d the
+  // centres and viewing directions. -1 when there is no candidate.
+  int NearestPhoto(const Rigid3d& cam_from_world) const;
+  int NearestPhoto(const Rigid3d& cam_from_world, const std::vector<int>& candidates) const;
   // Recomputes bounds, centroid and scene scale.
   void UpdateDerived();
 };

@@ -27,9 +27,9 @@ struct SimilarityAlignment {
 };
 
 // Least-squares similarity mapping src onto dst (Umeyama, "Least-squares estimation of
-// transformation parameters between two point patterns", PAMI 1991, eqs. 34-42), with the
-// reflection fix. Throws std::invalid_argument for fewer than 3 pairs, different sizes, or a
-// degenerate (collinear) src set.
+// transformation parameters between two point patterns", PAMI 1991, as Eigen::umeyama computes
+// it: never a reflection). Throws std::invalid_argument for fewer than 3 pairs, different sizes, or
+// a degenerate (collinear) src set.
 SimilarityAlignment AlignSimilarity(const std::vector<Eigen::Vector3d>& src,
                                     const std::vector<Eigen::Vector3d>& dst);
 

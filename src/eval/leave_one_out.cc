@@ -120,25 +120,26 @@ int ResolveSeries(const Scene& scene, const std::string& name_or_index) {
 EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
                          const EvalOptions& options) {
   if (!(options.size_scale > 0.0 && options.size_scale <= 1.0)) {
-    throw UsageError("--size-scale must be in (0, 1]");
+    throw UsageError("the render size scale must be in (0, 1]");
   }
   if (options.point_colors != "photos" && options.point_colors != "cloud") {
-    throw UsageError("--point-colors must be 'photos' or 'cloud'");
+    throw UsageError("point colours must come from 'photos' or the 'cloud'");
   }
   if (options.baselines && options.point_colors == "cloud" && !scene.points.HasColors()) {
-    throw UsageError("--point-colors cloud: the point cloud has no colours");
+    throw UsageError("point colours from the cloud: the point cloud has no colours");
   }
   if (scene.points.empty()) throw UsageError("the workspace has no points: nothing to render");
   const bool gt = !options.gt_capture.empty();
   // "all" (leave-one-out only): every photo, each rendered from the rest of its own series.
   const bool all_series = options.series == "all";
-  if (all_series && gt) throw UsageError("--series all applies to --leave-one-out only");
+  if (all_series && gt) throw UsageError("series 'all' applies to leave-one-out evaluation only");
   const int default_series = ResolveSeries(scene, all_series ? "" : options.series);
 
   // The views.
   std::vector<EvalView> views;
   if (gt) {
-    if (!options.photos.empty()) throw UsageError("--photos applies to --leave-one-out only");
+    if (!options.photos.empty())
+      throw UsageError("held-out photos apply to leave-one-out evaluation only");
     for (const GtView& g : ReadGtNovelViews(options.gt_capture)) {
       views.push_back({g.name, g.camera, g.cam_from_world, default_series, -1, g.radiance_path});
     }

@@ -1,7 +1,6 @@
 #include "eval/report.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
@@ -9,6 +8,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/false_colour.h"
 
 namespace hdribr::eval {
 namespace {
@@ -150,22 +150,11 @@ cv::Mat ErrorMap(const cv::Mat& reference, const cv::Mat& test, const cv::Mat& m
   if (reference.size() != test.size() || reference.type() != CV_8UC3 || test.type() != CV_8UC3) {
     throw std::invalid_argument("ErrorMap: needs two 8-bit BGR images of equal size");
   }
-  cv::Mat diff;
+  cv::Mat diff, sum;
   cv::absdiff(reference, test, diff);
-  cv::Mat grey(reference.size(), CV_8UC1);
-  const double gain = 255.0 / (3.0 * std::max(full_scale, 1e-6));
-  for (int y = 0; y < diff.rows; ++y) {
-    const auto* d = diff.ptr<cv::Vec3b>(y);
-    auto* g = grey.ptr<std::uint8_t>(y);
-    for (int x = 0; x < diff.cols; ++x) {
-      const double e = (d[x][0] + d[x][1] + d[x][2]) * gain;
-      g[x] = static_cast<std::uint8_t>(std::min(255.0, std::round(e)));
-    }
-  }
-  cv::Mat colour;
-  cv::applyColorMap(grey, colour, cv::COLORMAP_TURBO);
-  if (!mask.empty()) colour.setTo(cv::Scalar(0, 0, 0), mask == 0);
-  return colour;
+  diff.convertTo(diff, CV_32F);
+  cv::transform(diff, sum, cv::Matx13f(1, 1, 1));
+  return FalseColour(sum, 0, 3 * std::max(full_scale, 1e-6), mask);
 }
 
 cv::Mat SideBySide(const std::vector<cv::Mat>& panels, const std::vector<std::string>& captions,

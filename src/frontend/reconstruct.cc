@@ -164,7 +164,7 @@ void RunMatching(Context& ctx, StageProgress& progress, const std::string& strat
     }
   } else if (strategy == "vocab_tree") {
     if (ctx.opt.vocab_tree.empty())
-      throw UsageError("--matching vocab_tree needs --vocab-tree FILE");
+      throw OptionError("vocab_tree", "is needed by vocab_tree matching");
     if (!fs::exists(ctx.opt.vocab_tree))
       throw InputError(ctx.opt.vocab_tree, "vocabulary tree file does not exist");
     args = {"vocab_tree_matcher", "--database_path", db.string()};
@@ -378,16 +378,16 @@ namespace {
 
 // Refuses option values that COLMAP or the dense stage would fail on only minutes later.
 void CheckOptions(const ReconstructOptions& opt) {
-  if (opt.max_features < 1) throw UsageError("--max-features must be >= 1");
-  if (opt.sift_max_size < 16) throw UsageError("--sift-size must be >= 16");
+  if (opt.max_features < 1) throw OptionError("max_features", "must be >= 1");
+  if (opt.sift_max_size < 16) throw OptionError("sift_max_size", "must be >= 16");
   if (opt.undistort_max_size != -1 && opt.undistort_max_size < 16) {
-    throw UsageError("--image-size must be -1 (as shot) or >= 16");
+    throw OptionError("undistort_max_size", "must be -1 (as shot) or >= 16");
   }
   const DenseOptions& d = opt.dense_options;
-  if (d.max_size < 16 || d.num_depths < 2 || d.num_neighbors < 1) {
-    throw UsageError("--dense-size must be >= 16, --dense-depths >= 2, --dense-neighbors >= 1");
-  }
-  if (opt.threads < 0) throw UsageError("--threads must be >= 0 (0 = all cores)");
+  if (d.max_size < 16) throw OptionError("dense_options.max_size", "must be >= 16");
+  if (d.num_depths < 2) throw OptionError("dense_options.num_depths", "must be >= 2");
+  if (d.num_neighbors < 1) throw OptionError("dense_options.num_neighbors", "must be >= 1");
+  if (opt.threads < 0) throw OptionError("threads", "must be >= 0 (0 = all cores)");
 }
 
 }  // namespace
@@ -488,7 +488,7 @@ ReconstructReport Reconstruct(const ReconstructOptions& opt) {
         spdlog::warn("{} photo(s) not registered:{}", missing.size(), names);
         spdlog::warn(
             "hint: these share too few features with the others: take photos with more "
-            "overlap (about 60%) and texture, or try --matching exhaustive");
+            "overlap (about 60%) and texture, or try exhaustive matching");
       }
     }
   }

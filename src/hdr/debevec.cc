@@ -224,9 +224,9 @@ CalibrationOptions PlainDebevec(CalibrationOptions options) {
 ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOptions& options,
                                CalibrationStats* stats) {
   stack.Validate();
-  if (options.samples < 1) throw UsageError("--samples must be at least 1");
+  if (options.samples < 1) throw UsageError("the calibration needs at least 1 sample per channel");
   if (!std::isfinite(options.lambda) || options.lambda < 0) {
-    throw UsageError("--lambda must be a non-negative number");
+    throw UsageError("the smoothness weight lambda must be a non-negative number");
   }
   if (!(options.flat_fraction > 0 && options.flat_fraction <= 1)) {
     throw UsageError("the flat-sample fraction must be in (0, 1]");
@@ -323,7 +323,7 @@ ResponseCurve CalibrateDebevec(const ExposureStack& stack, const CalibrationOpti
     if (!solved) {
       throw UsageError(
           "the response calibration is ill-conditioned for this stack (too few "
-          "well exposed pixels); try more --samples or a larger --lambda");
+          "well exposed pixels); try more samples or a larger smoothness weight lambda");
     }
     // A response is monotonic; noise at the barely constrained ends can bend g back. Clamp
     // outward from the fixed middle so that g stays non-decreasing.

@@ -14,13 +14,10 @@ namespace hdribr {
 double HatWeight(int z);
 
 // Defaults: the data term grows with the number of samples while the smoothness term does not,
-// so lambda goes with samples. Measured in docs/algorithms.md ("HDR: response calibration"):
-// on the synthetic captures (3 series, 2 stops apart) the flat-sample selection, the trimmed
-// refit and lambda 60 bring the response from renders to 0.007-0.022 / 0.005-0.016 /
-// 0.005-0.023 RMS (10-245 DN, B/G/R; 0.60 / 0.24 / 0.15 with the plain method on the camera
-// before its linear toe), and on memorial they keep the curve monotonic (median log ratio vs
-// OpenCV 0.070 -> 0.043). Debevec's plain method: kCode, flat_fraction 1, trim 0 (lambda 30 was
-// the old default).
+// so lambda goes with samples. The flat-sample selection, the trimmed refit and the log-code
+// smoothness make the curve robust to misaligned or resampled exposures (their effect is
+// measured in docs/algorithms.md, "HDR: response calibration"); PlainDebevec gives the
+// published method.
 struct CalibrationOptions {
   double lambda = 60.0;  // smoothness weight (Debevec's lambda)
   int samples = 1000;    // pixel locations per channel, spread over intensities and the image

@@ -128,6 +128,21 @@ void WriteExif(const fs::path& path, const ExifInfo& info) {
   }
 }
 
+std::optional<cv::Size> HeaderPixelSize(const std::string& bytes) {
+  QuietExiv2();
+  try {
+    const Exiv2::Image::AutoPtr image = Exiv2::ImageFactory::open(
+        reinterpret_cast<const Exiv2::byte*>(bytes.data()), static_cast<long>(bytes.size()));
+    if (image.get() == nullptr) return std::nullopt;
+    image->readMetadata();
+    const cv::Size size(image->pixelWidth(), image->pixelHeight());
+    if (size.width <= 0 || size.height <= 0) return std::nullopt;
+    return size;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 }  // namespace hdribr
 
 #pragma GCC diagnostic pop

@@ -4,12 +4,14 @@
 #include <exception>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/exif.h"
 
 namespace hdribr {
 namespace fs = std::filesystem;
@@ -21,10 +23,6 @@ constexpr int kReadFlags = cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION;
 bool IsJpeg(const std::string& b) {
   return b.size() >= 3 && static_cast<unsigned char>(b[0]) == 0xFF &&
          static_cast<unsigned char>(b[1]) == 0xD8 && static_cast<unsigned char>(b[2]) == 0xFF;
-}
-
-bool IsPng(const std::string& b) {
-  return b.size() >= 8 && b.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
 }
 
 // libjpeg only warns on a truncated file (and fills the rest grey), so a JPEG must end with the
@@ -51,50 +49,6 @@ std::string ReadBytes(const fs::path& path) {
   return bytes;
 }
 
-// Size from a JPEG's SOF marker; 0x0 when not found.
-cv::Size JpegSize(const std::string& b) {
-  auto u8 = [&](size_t i) { return static_cast<unsigned>(static_cast<unsigned char>(b[i])); };
-  size_t i = 2;
-  while (i + 4 <= b.size()) {
-    if (u8(i) != 0xFF) return {};
-    const unsigned marker = u8(i + 1);
-    if (marker == 0xFF) {  // fill byte
-      ++i;
-      continue;
-    }
-    if (marker == 0xD8 || (marker >= 0xD0 && marker <= 0xD7) || marker == 0x01) {
-      i += 2;
-      continue;
-    }
-    const size_t len = (u8(i + 2) << 8) | u8(i + 3);
-    if (len < 2) return {};
-    const bool sof =
-        marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
-    if (sof) {
-      if (i + 9 > b.size()) return {};
-      const int h = static_cast<int>((u8(i + 5) << 8) | u8(i + 6));
-      const int w = static_cast<int>((u8(i + 7) << 8) | u8(i + 8));
-      return {w, h};
-    }
-    if (marker == 0xDA) return {};  // start of scan before any SOF
-    i += 2 + len;
-  }
-  return {};
-}
-
-cv::Size PngSize(const std::string& b) {
-  if (b.size() < 24 || b.compare(12, 4, "IHDR") != 0) return {};
-  auto be32 = [&](size_t i) {
-    return (static_cast<unsigned>(static_cast<unsigned char>(b[i])) << 24) |
-           (static_cast<unsigned>(static_cast<unsigned char>(b[i + 1])) << 16) |
-           (static_cast<unsigned>(static_cast<unsigned char>(b[i + 2])) << 8) |
-           static_cast<unsigned>(static_cast<unsigned char>(b[i + 3]));
-  };
-  const unsigned w = be32(16), h = be32(20);
-  if (w == 0 || h == 0 || w > (1u << 30) || h > (1u << 30)) return {};
-  return {static_cast<int>(w), static_cast<int>(h)};
-}
-
 cv::Mat Decode(const std::string& bytes, const fs::path& path) {
   if (IsJpeg(bytes)) CheckJpegComplete(bytes, path);
   cv::Mat image;
@@ -114,15 +68,9 @@ cv::Mat ReadImage(const fs::path& path) { return Decode(ReadBytes(path), path); 
 
 cv::Size ReadImageSize(const fs::path& path) {
   const std::string bytes = ReadBytes(path);
-  cv::Size size;
-  if (IsJpeg(bytes)) {
-    CheckJpegComplete(bytes, path);
-    size = JpegSize(bytes);
-  } else if (IsPng(bytes)) {
-    size = PngSize(bytes);
-  }
-  if (size.width > 0 && size.height > 0) return size;
-  return Decode(bytes, path).size();  // other formats, or a header we could not parse
+  if (IsJpeg(bytes)) CheckJpegComplete(bytes, path);
+  if (const std::optional<cv::Size> size = HeaderPixelSize(bytes)) return *size;
+  return Decode(bytes, path).size();  // a format exiv2 does not read, or a header without size
 }
 
 void WriteImage(const fs::path& path, const cv::Mat& image, int jpeg_quality) {

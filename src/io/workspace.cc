@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <system_error>
 
@@ -88,6 +89,26 @@ WorkspaceLayout DetectWorkspace(const fs::path& root) {
     layout.kind = "hdribr";
   }
   return layout;
+}
+
+void CheckOutsideInputs(const fs::path& root, const fs::path& out) {
+  if (out.empty()) return;
+  const WorkspaceLayout layout = DetectWorkspace(root);
+  std::vector<fs::path> inputs = {layout.images_dir};
+  if (layout.sparse_dir != layout.root) inputs.push_back(layout.sparse_dir);
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(fs::absolute(out, ec), ec);
+  if (ec || target.empty()) return;
+  for (const fs::path& input : inputs) {
+    const fs::path folder = fs::weakly_canonical(fs::absolute(input, ec), ec);
+    if (ec || folder.empty()) continue;
+    const auto end =
+        std::mismatch(folder.begin(), folder.end(), target.begin(), target.end()).first;
+    if (end == folder.end()) {
+      throw UsageError(out.string() + ": inside the workspace's input folder " + input.string() +
+                       ", where it would be read as input; write it elsewhere");
+    }
+  }
 }
 
 Scene LoadWorkspace(const fs::path& root, const LoadOptions& options) {

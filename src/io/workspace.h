@@ -25,6 +25,11 @@ struct WorkspaceLayout {
 // Finds the layout of a workspace folder; throws InputError if it is none of the above.
 WorkspaceLayout DetectWorkspace(const std::filesystem::path& root);
 
+// Throws UsageError when `out`, a file or folder about to be written, lies inside an input
+// folder of the workspace at `root` (its photos or its COLMAP model), where the next load or
+// reconstruction would take it for input.
+void CheckOutsideInputs(const std::filesystem::path& root, const std::filesystem::path& out);
+
 struct LoadOptions {
   bool read_exif = true;  // fill exposure from the photos' EXIF when no series.json says it
 };

@@ -38,10 +38,7 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
     g.intrinsics[2] = static_cast<float>(cam.cx());
     g.intrinsics[3] = static_cast<float>(cam.cy());
     const Eigen::Vector3d c = photo.Center();
-    double relative = photo.exposure.Relative();
-    if (photo.series_id >= 0 && static_cast<size_t>(photo.series_id) < scene.series.size()) {
-      relative = scene.series[static_cast<size_t>(photo.series_id)].relative_exposure;
-    }
+    const double relative = scene.RelativeExposureOf(photo);
     g.center[0] = static_cast<float>(c.x());
     g.center[1] = static_cast<float>(c.y());
     g.center[2] = static_cast<float>(c.z());
@@ -91,10 +88,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   if (options.encoding == PhotoEncoding::kRadiance && response == nullptr) {
     throw UsageError("radiance blending needs a response curve (RendererOptions::response)");
   }
-  if (options.k_best < 0) {
-    throw UsageError("k_best must be 0 (all) or 1.." + std::to_string(kMaxKBest) + ", got " +
-                     std::to_string(options.k_best));
-  }
+  HDRIBR_CHECK_MSG(BlendOptionProblems(options).empty(), "blend options not validated");
   const bool ulr = options.weights == BlendWeights::kUnstructured;
   int k_best = options.k_best;
   if (ulr) {
@@ -103,10 +97,6 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
     k_best = std::min({k_best, std::max(active_count_, 1), kMaxKBest});
   } else if (k_best >= active_count_) {
     k_best = 0;  // K >= the active photos is all of them (exactly)
-  }
-  if (k_best > kMaxKBest) {
-    throw UsageError("k_best must be 0 (all) or 1.." + std::to_string(kMaxKBest) + ", got " +
-                     std::to_string(options.k_best));
   }
   const GLuint p = program_.id();
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();

@@ -9,15 +9,12 @@
 #include "core/scene.h"
 #include "gl/objects.h"
 #include "gl/shader_library.h"
+#include "render/blend_options.h"
 #include "render/depth_pass.h"
 #include "render/photo_depth_maps.h"
 #include "render/photo_textures.h"
-#include "render/renderer.h"
 
 namespace hdribr::render {
-
-// Largest K of BlendOptions::k_best handled per pixel (MAX_K in shaders/blend.comp).
-inline constexpr int kMaxKBest = 32;
 
 class BlendPass {
  public:

@@ -199,9 +199,9 @@ HdrPhotoSet WriteHdrPhotoSet(HdrPhotoSet set, const std::vector<ExposureStack>& 
     for (int s = 1; s < n_series; ++s) cv::bitwise_and(all, mosaic.masks[s], all);
     overlap = cv::countNonZero(all);
     if (overlap == 0) {
-      throw UsageError("no pixel of the reference views is valid in all " +
-                       std::to_string(n_series) +
-                       " series: the series do not overlap, cannot calibrate (give --response)");
+      throw UsageError(
+          "no pixel of the reference views is valid in all " + std::to_string(n_series) +
+          " series: the series do not overlap, cannot calibrate (give a response curve)");
     }
     CalibrationStats stats;
     response = CalibrateDebevec(mosaic, options.calibration, &stats);

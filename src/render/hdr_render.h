@@ -1,4 +1,4 @@
-// The three ways to render an HDR novel view (issue 6), behind one call:
+// The three ways to render an HDR novel view, behind one call:
 //  1. precomputed: blend the workspace's HDR photo set (LEC19 sec. 5, the paper's default);
 //  2. on the fly: render every exposure series from its own photos, merge per frame with
 //     Debevec-Malik (LEC19 eq. 7; M renders per frame);

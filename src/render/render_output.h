@@ -1,4 +1,4 @@
-// Files written from rendered views (`hdribr render`, exports): RGBA EXR and false colour.
+// Files written from rendered views (`hdribr render`, exports): RGBA EXR.
 #pragma once
 
 #include <filesystem>
@@ -9,9 +9,5 @@ namespace hdribr::render {
 // Writes linear float R, G, B (from CV_32FC3 BGR) and A = 1 where `valid` (CV_8UC1) is
 // non-zero, 0 elsewhere; atomic. Throws InputError naming the file.
 void WriteRgbaExr(const std::filesystem::path& path, const cv::Mat& bgr, const cv::Mat& valid);
-
-// CV_8UC3 turbo colour map of a CV_32FC1 image between lo and hi (lo = blue end); pixels
-// where `mask` is zero are black.
-cv::Mat FalseColour(const cv::Mat& value, double lo, double hi, const cv::Mat& mask);
 
 }  // namespace hdribr::render

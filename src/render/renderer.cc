@@ -15,17 +15,6 @@
 
 namespace hdribr::render {
 
-std::string BlendWeightsName(BlendWeights weights) {
-  return weights == BlendWeights::kUnstructured ? "ulr" : "paper";
-}
-
-BlendWeights ParseBlendWeights(const std::string& name) {
-  for (BlendWeights w : {BlendWeights::kPaper, BlendWeights::kUnstructured}) {
-    if (BlendWeightsName(w) == name) return w;
-  }
-  throw UsageError("unknown blending weights '" + name + "' (paper, ulr)");
-}
-
 RenderTarget RenderTarget::Create(int width, int height) {
   RenderTarget t;
   t.depth = DepthTarget::Create(width, height);
@@ -102,43 +91,10 @@ struct Renderer::Impl {
     for (size_t i = 0; i < active.size(); ++i) active[i] = static_cast<int>(i);
     blend.SetActive(active);
   }
-
-  // BlendMode::kNearestPhoto: the active photo whose centre is nearest to the view's, with
-  // the view-direction difference as a tie-break term: |C - C_k| / scene_scale + (1 - d . d_k).
-  int NearestPhoto(const Rigid3d& cam_from_world) const {
-    const Rigid3d world_from_cam = cam_from_world.Inverse();
-    const Eigen::Vector3d c = world_from_cam.translation;
-    const Eigen::Vector3d d = world_from_cam.rotation * Eigen::Vector3d::UnitZ();
-    int best = -1;
-    double best_score = 0;
-    for (int i : active) {
-      const Photo& photo = scene.photos[static_cast<size_t>(i)];
-      const double score = (photo.Center() - c).norm() / std::max(scene.scene_scale, 1e-12) +
-                           (1.0 - d.dot(photo.ViewDirection()));
-      if (best < 0 || score < best_score) {
-        best = i;
-        best_score = score;
-      }
-    }
-    return best;
-  }
 };
 
-void ValidateBlendOptions(const BlendOptions& options) {
-  if (options.k_best < 0) {
-    throw UsageError("--k-best must be >= 0 (0 = the default), got " +
-                     std::to_string(options.k_best));
-  }
-  if (!(options.lambda >= 0.0f && options.lambda < 1.0f)) {
-    throw UsageError("--lambda must be in [0, 1), got " + std::to_string(options.lambda));
-  }
-  if (!(options.occlusion_tolerance > 0.0f && options.occlusion_tolerance < 1.0f)) {
-    throw UsageError("--tolerance must be in (0, 1), got " +
-                     std::to_string(options.occlusion_tolerance));
-  }
-}
-
 Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, RendererOptions options) {
+  ValidateBlendOptions(options.blend);  // before any upload
   const auto t0 = std::chrono::steady_clock::now();
   impl_ = std::make_unique<Impl>(shaders, scene, std::move(options));
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -167,7 +123,7 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
                          : camera.Scaled(target.width(), target.height());
   const bool nearest = m.options.blend.mode == BlendMode::kNearestPhoto;
   if (nearest) {
-    const int best = m.NearestPhoto(cam_from_world);
+    const int best = m.scene.NearestPhoto(cam_from_world, m.active);
     m.blend.SetActive(best >= 0 ? std::vector<int>{best} : std::vector<int>{});
   }
   // The older set is re-used: read it first if it is done (it is overwritten otherwise).

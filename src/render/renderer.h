@@ -15,52 +15,10 @@
 #include "gl/objects.h"
 #include "gl/shader_library.h"
 #include "hdr/response_curve.h"
+#include "render/blend_options.h"
 #include "render/depth_pass.h"
 
 namespace hdribr::render {
-
-// What the blend pass computes per pixel.
-enum class BlendMode {
-  kBlend,         // blend the photos that see the point (weights: BlendWeights)
-  kNearestPhoto,  // baseline: projective texturing from the single photo nearest the view
-};
-
-// The blending weights of BlendMode::kBlend.
-enum class BlendWeights {
-  kPaper,         // LEC19 eq. 5: max(0, V . V_k) / (delta_k + 1) over all (or the K best)
-  kUnstructured,  // Unstructured Lumigraph (Buehler et al. 2001): K smallest angle + delta
-                  // penalties p_k, w_k = (1 - p_k / p_(K+1)) / p_k
-};
-
-// "paper", "ulr"; ParseBlendWeights throws UsageError for anything else.
-std::string BlendWeightsName(BlendWeights weights);
-BlendWeights ParseBlendWeights(const std::string& name);
-
-// K of BlendWeights::kUnstructured when BlendOptions::k_best is 0.
-inline constexpr int kDefaultUnstructuredK = 4;
-
-// How photo pixels are turned into the blended value.
-enum class PhotoEncoding {
-  kDisplay,   // the photo's stored values (8-bit / 255, or float for an HDR photo set)
-  kRadiance,  // direct radiance blending (issue 6 mode 3): exp(g(Z)) / relative exposure,
-              // blending weight times Debevec's hat weight of Z; needs a response curve
-};
-
-struct BlendOptions {
-  BlendMode mode = BlendMode::kBlend;
-  PhotoEncoding encoding = PhotoEncoding::kDisplay;
-  // Unstructured Lumigraph by default (1.7 dB closer than eq. 5 in leave-one-out on the
-  // default capture, docs/benchmarks.md); kPaper is the paper's blending exactly.
-  BlendWeights weights = BlendWeights::kUnstructured;
-  int k_best = 0;        // 0 = all photos for kPaper (the paper), kDefaultUnstructuredK for ULR
-  float lambda = 1e-4f;  // a photo counts when N_p . V_k > lambda (paper eq. 3)
-  float occlusion_tolerance = 0.01f;  // |z_k(P) - depth_k| <= tolerance * depth_k passes
-  int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
-};
-
-// Throws UsageError, naming the command-line option (--k-best, --lambda, --tolerance), for
-// values no blend can use: k_best < 0, lambda outside [0, 1), tolerance outside (0, 1).
-void ValidateBlendOptions(const BlendOptions& options);
 
 struct RendererOptions {
   DepthPassOptions depth;

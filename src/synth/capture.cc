@@ -94,20 +94,20 @@ void WriteViewTruth(const fs::path& dir, const std::string& stem, const Rendered
 }  // namespace
 
 CapturePlan PlanCapture(const CaptureOptions& o) {
-  if (o.series < 1 || o.views < 1 || o.novel_views < 0) {
-    throw UsageError("synth: --series and --views must be at least 1, --novel at least 0");
-  }
+  if (o.series < 1) throw OptionError("series", "must be at least 1");
+  if (o.views < 1) throw OptionError("views", "must be at least 1");
+  if (o.novel_views < 0) throw OptionError("novel_views", "must be at least 0");
   // Series of equal or non-finite exposure make no HDR capture (exposure times 2^(k ev_step)).
   if (!(o.ev_step > 0) || !std::isfinite(o.ev_step) || o.ev_step > 8) {
-    throw UsageError("synth: --ev-step must be in (0, 8] stops");
+    throw OptionError("ev_step", "must be in (0, 8] stops");
   }
-  if (o.threads < 0) throw UsageError("synth: --threads must be >= 0 (0 = all cores)");
-  if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192) {
-    throw UsageError("synth: --size must be between 16x16 and 8192x8192");
-  }
-  if (o.jpeg_quality < 1 || o.jpeg_quality > 100) throw UsageError("synth: JPEG quality 1..100");
+  if (o.threads < 0) throw OptionError("threads", "must be >= 0 (0 = all cores)");
+  if (o.width < 16 || o.width > 8192) throw OptionError("width", "must be in [16, 8192]");
+  if (o.height < 16 || o.height > 8192) throw OptionError("height", "must be in [16, 8192]");
+  if (o.jpeg_quality < 1 || o.jpeg_quality > 100)
+    throw OptionError("jpeg_quality", "must be in [1, 100]");
   if (!(o.toe >= 0 && o.toe <= 0.1)) {
-    throw UsageError("synth: --toe must be in [0, 0.1] (0 = a pure power law down to black)");
+    throw OptionError("toe", "must be in [0, 0.1] (0 = a pure power law down to black)");
   }
   CapturePlan plan;
   plan.options = o;

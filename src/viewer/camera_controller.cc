@@ -1,8 +1,9 @@
 #include "viewer/camera_controller.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
+#include <glm/geometric.hpp>
+
+#include "viewer/glm_eigen.h"
 
 namespace hdribr::viewer {
 
@@ -15,86 +16,83 @@ Eigen::Vector3d SceneUp(const Scene& scene) {
   return up.normalized();
 }
 
-int NearestPhoto(const Scene& scene, const Rigid3d& cam_from_world) {
-  const Eigen::Vector3d centre = cam_from_world.Inverse().translation;
-  const Eigen::Vector3d dir = cam_from_world.rotation.inverse() * Eigen::Vector3d::UnitZ();
-  const double scale = scene.scene_scale > 0 ? scene.scene_scale : 1.0;
-  int best = -1;
-  double best_cost = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < scene.photos.size(); ++i) {
-    const Photo& p = scene.photos[i];
-    const double d = (p.Center() - centre).norm() / scale;
-    const double angle = std::acos(std::clamp(p.ViewDirection().dot(dir), -1.0, 1.0));
-    const double cost = d + angle;
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = static_cast<int>(i);
-    }
-  }
-  return best;
-}
-
 CameraController::CameraController(const Eigen::Vector3d& pivot, double scale,
                                    const Eigen::Vector3d& up)
-    : pivot_(pivot), scale_(scale > 0 ? scale : 1.0), up_(up.normalized()) {
+    : pivot_(ToGlm(pivot)), scale_(scale > 0 ? scale : 1.0), up_(ToGlm(up.normalized())) {
   // Default view: from one scale away, looking at the pivot.
-  Eigen::Vector3d side = up_.unitOrthogonal();
-  SetPose(LookAt(pivot_ + side * scale_, pivot_, up_));
-  home_ = cam_from_world();
+  const Eigen::Vector3d side = up.normalized().unitOrthogonal();
+  SetPose(LookAt(pivot + side * scale_, pivot, up.normalized()));
+  home_ = pose_;
+}
+
+CameraController::Pose CameraController::FromCamFromWorld(const Rigid3d& cam_from_world) {
+  return {ToGlm(cam_from_world.Inverse().translation),
+          glm::normalize(glm::inverse(ToGlm(cam_from_world.rotation)))};
+}
+
+void CameraController::Set(const Pose& pose) {
+  pose_ = pose;
+  transition_left_s_ = 0;
 }
 
 void CameraController::SetPose(const Rigid3d& cam_from_world) {
-  world_from_cam_ = cam_from_world.rotation.inverse().normalized();
-  eye_ = cam_from_world.Inverse().translation;
-  transition_left_s_ = 0;
+  Set(FromCamFromWorld(cam_from_world));
 }
 
 Rigid3d CameraController::cam_from_world() const {
-  const Eigen::Quaterniond cam_from_world_rot = world_from_cam_.inverse();
-  return {cam_from_world_rot, -(cam_from_world_rot * eye_)};
+  const glm::dquat cam_from_world_rot = glm::inverse(pose_.world_from_cam);
+  return {ToEigen(cam_from_world_rot), ToEigen(-(cam_from_world_rot * pose_.eye))};
 }
 
+Eigen::Vector3d CameraController::eye() const { return ToEigen(pose_.eye); }
+
+Eigen::Vector3d CameraController::pivot() const { return ToEigen(pivot_); }
+
+void CameraController::SetHome(const Rigid3d& cam_from_world) {
+  home_ = FromCamFromWorld(cam_from_world);
+}
+
+void CameraController::Reset(double duration_s) { StartTransition(home_, duration_s); }
+
 void CameraController::Orbit(double yaw_rad, double pitch_rad) {
-  const Eigen::Vector3d right = world_from_cam_ * Eigen::Vector3d::UnitX();
+  const glm::dvec3 right = pose_.world_from_cam * glm::dvec3(1, 0, 0);
   // Positive pitch moves the camera up (rotation about the camera's right axis, negated: y is
   // down in COLMAP cameras).
-  const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(-yaw_rad, up_)) *
-                               Eigen::Quaterniond(Eigen::AngleAxisd(-pitch_rad, right));
-  eye_ = pivot_ + q * (eye_ - pivot_);
-  world_from_cam_ = (q * world_from_cam_).normalized();
-  transition_left_s_ = 0;
+  const glm::dquat q = glm::angleAxis(-yaw_rad, up_) * glm::angleAxis(-pitch_rad, right);
+  Set({pivot_ + q * (pose_.eye - pivot_), glm::normalize(q * pose_.world_from_cam)});
 }
 
 void CameraController::Look(double yaw_rad, double pitch_rad) {
-  const Eigen::Vector3d right = world_from_cam_ * Eigen::Vector3d::UnitX();
-  const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(-yaw_rad, up_)) *
-                               Eigen::Quaterniond(Eigen::AngleAxisd(-pitch_rad, right));
-  world_from_cam_ = (q * world_from_cam_).normalized();
-  transition_left_s_ = 0;
+  const glm::dvec3 right = pose_.world_from_cam * glm::dvec3(1, 0, 0);
+  const glm::dquat q = glm::angleAxis(-yaw_rad, up_) * glm::angleAxis(-pitch_rad, right);
+  Set({pose_.eye, glm::normalize(q * pose_.world_from_cam)});
 }
 
 void CameraController::Fly(const Eigen::Vector3d& local, double dt_s) {
-  eye_ += world_from_cam_ * local * (speed_factor * scale_ * dt_s);
-  transition_left_s_ = 0;
+  const glm::dvec3 world = pose_.world_from_cam * ToGlm(local);
+  Set({pose_.eye + world * (speed_factor * scale_ * dt_s), pose_.world_from_cam});
 }
 
 void CameraController::ZoomTowards(const Eigen::Vector3d& cam_ray, double steps) {
-  if (cam_ray.norm() < 1e-12) return;
-  const double distance = std::max((eye_ - pivot_).norm(), 0.01 * scale_);
+  const glm::dvec3 ray = ToGlm(cam_ray);
+  if (glm::length(ray) < 1e-12) return;
+  const double distance = std::max(glm::distance(pose_.eye, pivot_), 0.01 * scale_);
   const double step = std::max(0.15 * distance, 0.01 * scale_);
-  eye_ += (world_from_cam_ * cam_ray.normalized()) * (step * steps);
-  transition_left_s_ = 0;
+  const glm::dvec3 world_ray = pose_.world_from_cam * glm::normalize(ray);
+  Set({pose_.eye + world_ray * (step * steps), pose_.world_from_cam});
 }
 
 void CameraController::TransitionTo(const Rigid3d& cam_from_world, double duration_s) {
+  StartTransition(FromCamFromWorld(cam_from_world), duration_s);
+}
+
+void CameraController::StartTransition(const Pose& to, double duration_s) {
   if (duration_s <= 0) {
-    SetPose(cam_from_world);
+    Set(to);
     return;
   }
-  from_eye_ = eye_;
-  from_rot_ = world_from_cam_;
-  to_eye_ = cam_from_world.Inverse().translation;
-  to_rot_ = cam_from_world.rotation.inverse().normalized();
+  from_ = pose_;
+  to_ = to;
   transition_s_ = transition_left_s_ = duration_s;
 }
 
@@ -103,8 +101,9 @@ bool CameraController::Update(double dt_s) {
   transition_left_s_ = std::max(0.0, transition_left_s_ - dt_s);
   const double t = 1.0 - transition_left_s_ / transition_s_;
   const double s = t * t * (3 - 2 * t);  // smoothstep
-  eye_ = from_eye_ + s * (to_eye_ - from_eye_);
-  world_from_cam_ = from_rot_.slerp(s, to_rot_).normalized();
+  // slerp takes the shorter arc (q and -q are the same rotation).
+  pose_.eye = glm::mix(from_.eye, to_.eye, s);
+  pose_.world_from_cam = glm::normalize(glm::slerp(from_.world_from_cam, to_.world_from_cam, s));
   return true;
 }
 

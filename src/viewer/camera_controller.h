@@ -1,11 +1,13 @@
 // Viewer navigation as pure math (no GL): orbit around a pivot, fly, look around, zoom towards a
 // cursor ray, snapping to photos with smooth transitions. Poses follow COLMAP conventions
-// (camera x right, y down, z forward); speeds are multiples of the scene scale.
+// (camera x right, y down, z forward); speeds are multiples of the scene scale. The state and
+// the math are GLM (double precision); the API takes and returns core's Eigen types.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <vector>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
 
 #include "core/rigid3.h"
 #include "core/scene.h"
@@ -15,10 +17,6 @@ namespace hdribr::viewer {
 // World "up" of a capture: the mean of the photos' camera -y axes (normalised); +z when none.
 Eigen::Vector3d SceneUp(const Scene& scene);
 
-// Index of the photo whose viewpoint is nearest `cam_from_world`: centre distance (in scene
-// scale units) plus the angle between view directions (radians); -1 for a scene without photos.
-int NearestPhoto(const Scene& scene, const Rigid3d& cam_from_world);
-
 class CameraController {
  public:
   // pivot: orbit centre (world); scale: scene scale (metres or SfM units); up: world up.
@@ -26,11 +24,11 @@ class CameraController {
 
   void SetPose(const Rigid3d& cam_from_world);  // immediate, cancels any transition
   Rigid3d cam_from_world() const;
-  Eigen::Vector3d eye() const { return eye_; }
-  const Eigen::Vector3d& pivot() const { return pivot_; }
-  // The pose Reset() returns to (the first pose set, or the constructor's default view).
-  void SetHome(const Rigid3d& cam_from_world) { home_ = cam_from_world; }
-  void Reset(double duration_s = 0.5) { TransitionTo(home_, duration_s); }
+  Eigen::Vector3d eye() const;  // camera centre (world)
+  Eigen::Vector3d pivot() const;
+  // The pose Reset() returns to (the constructor's default view until set).
+  void SetHome(const Rigid3d& cam_from_world);
+  void Reset(double duration_s = 0.5);
 
   // Orbit around the pivot: yaw about world up, pitch about the camera's x axis (radians).
   void Orbit(double yaw_rad, double pitch_rad);
@@ -52,15 +50,21 @@ class CameraController {
   double speed_factor = 0.5;  // fly speed in scene scales per second
 
  private:
-  Eigen::Vector3d pivot_;
+  // A viewpoint as the controller moves it: camera centre and camera-to-world rotation.
+  struct Pose {
+    glm::dvec3 eye{0.0};
+    glm::dquat world_from_cam{1.0, 0.0, 0.0, 0.0};
+  };
+  static Pose FromCamFromWorld(const Rigid3d& cam_from_world);
+  void Set(const Pose& pose);
+  void StartTransition(const Pose& to, double duration_s);
+
+  glm::dvec3 pivot_;
   double scale_;
-  Eigen::Vector3d up_;
-  Eigen::Vector3d eye_ = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond world_from_cam_ = Eigen::Quaterniond::Identity();
-  Rigid3d home_;
-  // Transition state.
-  Eigen::Vector3d from_eye_, to_eye_;
-  Eigen::Quaterniond from_rot_, to_rot_;
+  glm::dvec3 up_;  // unit
+  Pose pose_;
+  Pose home_;
+  Pose from_, to_;  // transition end points
   double transition_s_ = 0, transition_left_s_ = 0;
 };
 

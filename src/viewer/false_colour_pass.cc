@@ -21,7 +21,7 @@ FalseColourPass::FalseColourPass(const gl::ShaderLibrary& shaders)
     : range_(shaders.Build({"viewer_depth_range.comp"})),
       colour_(shaders.Build({"viewer_false_colour.comp"})),
       range_buffer_(2 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT) {
-  // The LUT is OpenCV's own map, so the GPU picture equals render::FalseColour's.
+  // The LUT is OpenCV's own map, so the GPU picture equals FalseColour's.
   cv::Mat ramp(1, 256, CV_8UC1), bgr, rgba;
   for (int i = 0; i < 256; ++i) ramp.at<std::uint8_t>(0, i) = static_cast<std::uint8_t>(i);
   cv::applyColorMap(ramp, bgr, cv::COLORMAP_TURBO);

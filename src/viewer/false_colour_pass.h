@@ -1,5 +1,5 @@
 // The viewer's debug displays (depth, normals, contributing-photo count) coloured on the GPU
-// from the renderer's outputs: no read-back, the same pictures as render::FalseColour.
+// from the renderer's outputs: no read-back, the same pictures as FalseColour.
 #pragma once
 
 #include "gl/objects.h"

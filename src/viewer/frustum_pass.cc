@@ -1,9 +1,13 @@
 #include "viewer/frustum_pass.h"
 
 #include <algorithm>
+#include <cstddef>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
 
 #include "core/error.h"
 #include "core/projection.h"
+#include "viewer/glm_eigen.h"
 
 namespace hdribr::viewer {
 
@@ -39,17 +43,20 @@ FrustumPass::FrustumPass(const gl::ShaderLibrary& shaders)
 
 void FrustumPass::SetLines(const FrustumLines& lines) {
   HDRIBR_CHECK(lines.points.size() == lines.photo.size() && lines.points.size() % 2 == 0);
+  // Attribute 0: world position; attribute 1: photo index (a float, exact below 2^24).
   struct Vertex {
-    float position[3];
+    glm::vec3 position;
     float photo;
   };
+  static_assert(sizeof(Vertex) == 4 * sizeof(float));
   std::vector<Vertex> vertices;
   vertices.reserve(lines.points.size());
+  points_.clear();
+  points_.reserve(lines.points.size());
   for (size_t i = 0; i < lines.points.size(); ++i) {
-    const Eigen::Vector3f& p = lines.points[i];
-    vertices.push_back({{p.x(), p.y(), p.z()}, static_cast<float>(lines.photo[i])});
+    points_.push_back(ToGlm(lines.points[i]));
+    vertices.push_back({points_.back(), static_cast<float>(lines.photo[i])});
   }
-  points_ = lines.points;
   count_ = vertices.size();
   vao_ = gl::VertexArray::Create();
   if (vertices.empty()) {
@@ -62,7 +69,7 @@ void FrustumPass::SetLines(const FrustumLines& lines) {
   glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao_.id(), 0, 0);
   glEnableVertexArrayAttrib(vao_.id(), 1);
-  glVertexArrayAttribFormat(vao_.id(), 1, 1, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
+  glVertexArrayAttribFormat(vao_.id(), 1, 1, GL_FLOAT, GL_FALSE, offsetof(Vertex, photo));
   glVertexArrayAttribBinding(vao_.id(), 1, 0);
 }
 
@@ -75,21 +82,22 @@ void FrustumPass::Draw(const Camera& camera, const Rigid3d& cam_from_world,
   const Camera cam = (camera.width == w && camera.height == h) ? camera : camera.Scaled(w, h);
   // Clip range: the farthest line vertex; near small against it (GL clips segments crossing
   // the near plane, so lines through the viewpoint stay correct).
-  const Eigen::Matrix4f cfw = cam_from_world.Matrix4().cast<float>();
+  const glm::mat4 cfw(ToGlm(cam_from_world));
   float zmax = 0;
-  for (const Eigen::Vector3f& p : points_) {
-    zmax = std::max(zmax, (cfw * p.homogeneous()).z());
+  for (const glm::vec3& p : points_) {
+    zmax = std::max(zmax, (cfw * glm::vec4(p, 1.0f)).z);
   }
   if (!(zmax > 0)) return;  // every line behind the camera
   const float far = zmax * 1.01f;
-  const Eigen::Matrix4f clip_from_cam = ClipFromCam(cam, far * 1e-4f, far);
+  const glm::mat4 clip_from_cam = ToGlm(ClipFromCam(cam, far * 1e-4f, far));
+  // GLM matrices are column-major, as GL expects with transpose = GL_FALSE.
   const GLuint p = program_.id();
-  glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, cfw.data());
-  glProgramUniformMatrix4fv(p, 1, 1, GL_FALSE, clip_from_cam.data());
+  glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, glm::value_ptr(cfw));
+  glProgramUniformMatrix4fv(p, 1, 1, GL_FALSE, glm::value_ptr(clip_from_cam));
   glProgramUniform1f(p, 2, tolerance);
   glProgramUniform1i(p, 3, highlight);
-  glProgramUniform4fv(p, 4, 1, colour.data());
-  glProgramUniform4fv(p, 5, 1, highlight_colour.data());
+  glProgramUniform4fv(p, 4, 1, glm::value_ptr(colour));
+  glProgramUniform4fv(p, 5, 1, glm::value_ptr(highlight_colour));
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <vector>
 
 #include "core/camera.h"
@@ -36,14 +38,14 @@ class FrustumPass {
   void Draw(const Camera& camera, const Rigid3d& cam_from_world, const gl::Texture& scene_depth,
             const gl::Framebuffer& fb, int highlight = -1, float tolerance = 0.01f);
 
-  Eigen::Vector4f colour{0.31f, 0.78f, 1.0f, 1.0f};
-  Eigen::Vector4f highlight_colour{1.0f, 0.78f, 0.0f, 1.0f};
+  glm::vec4 colour{0.31f, 0.78f, 1.0f, 1.0f};
+  glm::vec4 highlight_colour{1.0f, 0.78f, 0.0f, 1.0f};
 
  private:
   gl::Program program_;
   gl::Buffer buffer_;
   gl::VertexArray vao_;
-  std::vector<Eigen::Vector3f> points_;  // for the clip range
+  std::vector<glm::vec3> points_;  // world, for the clip range
   size_t count_ = 0;
 };
 

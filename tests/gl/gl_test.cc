@@ -62,14 +62,23 @@ TEST_F(GlTest, WrappersMoveAndRelease) {
   EXPECT_NE(vao.id(), 0u);
 }
 
-TEST_F(GlTest, TimerQueryMeasures) {
-  TimerQuery q = TimerQuery::Create();
-  q.Begin();
-  Texture t = Texture::Create2D(GL_R32F, 64, 64);
+TEST_F(GlTest, TimestampsAreOrderedAndBracketTheTimerQuery) {
+  TimestampQuery before = TimestampQuery::Create(), after = TimestampQuery::Create();
+  TimerQuery elapsed = TimerQuery::Create();
+  Texture t = Texture::Create2D(GL_R32F, 256, 256);
   const float one = 1.0f;
-  glClearTexImage(t.id(), 0, GL_RED, GL_FLOAT, &one);
-  q.End();
-  EXPECT_GE(q.ElapsedMs(), 0.0);
+  before.Stamp();
+  elapsed.Begin();
+  for (int i = 0; i < 8; ++i) glClearTexImage(t.id(), 0, GL_RED, GL_FLOAT, &one);
+  elapsed.End();
+  after.Stamp();
+  const GLuint64 start = before.ResultNs(), end = after.ResultNs();
+  EXPECT_TRUE(before.Available());
+  EXPECT_TRUE(after.Available());
+  EXPECT_GT(start, 0u);
+  ASSERT_LE(start, end);
+  // The timer's interval lies between the two stamps (1 us allowed for clock granularity).
+  EXPECT_LE(elapsed.ElapsedMs(), static_cast<double>(end - start) * 1e-6 + 1e-3);
 }
 
 TEST_F(GlTest, EmbeddedShadersAreThere) {

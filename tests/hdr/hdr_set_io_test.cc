@@ -1,7 +1,7 @@
 // The CPU half of the HDR photo set (PlanHdrPhotoSet + WriteHdrPhotoSet + LoadHdrPhotoSet) on
 // perfectly aligned stacks: the ground-truth radiance of a synthetic capture's reference views
 // exposed through its true camera response with noise, at each series' exposure. Checks the
-// issue 6 targets for this half (response RMS <= 3% over 10-245 DN, merged HDR vs GT median
+// quality targets for this half (response RMS <= 3% over 10-245 DN, merged HDR vs GT median
 // |log ratio| <= 0.05), the file format round trip, and the error cases.
 #include <gtest/gtest.h>
 
@@ -80,12 +80,8 @@ TEST_F(HdrSetIoTest, CalibrationAndMergeMeetTargetsAndRoundTrip) {
   EXPECT_FALSE(fs::exists(opt.output));  // planning writes nothing
   const HdrPhotoSet set = WriteHdrPhotoSet(plan, GtStacks(plan), opt);
 
-  // Issue 6 target: RMS <= 3% of linear exposure over 10-245 DN. Measured B/G/R 0.0075 /
-  // 0.0077 / 0.0073 with the two-round trimmed refit; its first (global) round alone gives
-  // 0.017 / 0.025 / 0.011, Debevec's plain method 0.81 / 0.25 / 0.12 on the synthetic camera
-  // before its linear toe (0.077 / 0.065 / 0.019 with the defaults then: its read noise
-  // covered the lowest ~25 codes of the pure power law). Bound: the regression bound 0.015
-  // (the target itself is 0.03).
+  // Target: RMS <= 3% of linear exposure over 10-245 DN; asserted with the tighter regression
+  // bound 0.015 (the defaults give about 0.0075 per channel here).
   const ResponseCurve truth = ReadResponseCurve(*dir_ / "calib" / "response.json");
   const ResponseCurve got = ReadResponseCurve(set.folder / set.response_file);
   for (int c = 0; c < 3; ++c) {
@@ -97,11 +93,9 @@ TEST_F(HdrSetIoTest, CalibrationAndMergeMeetTargetsAndRoundTrip) {
     EXPECT_LE(rms, 0.015) << "channel " << c;
   }
   {
-    // Noise-free stacks: the defaults meet the target in every channel (measured
-    // 0.004/0.004/0.004), and so does Debevec's plain method (0.004/0.004/0.005): the linear
-    // toe is straight in ln z and nearly so in z. (Before the toe, the smoothness in z pulled
-    // the dark end of the gamma-2.5 blue curve toward a line: 0.073; LogCodeSmoothness in
-    // debevec_test.cc keeps that case.)
+    // Noise-free stacks: the defaults meet the target in every channel, and so does Debevec's
+    // plain method: the camera's linear toe is straight in ln z and nearly so in z
+    // (LogCodeSmoothness in debevec_test.cc covers a curve where smoothness in z fails).
     HdrPhotoSet clean = plan;
     clean.folder = test::TempDir("hdr_set_io_clean") / "hdr";
     const std::vector<ExposureStack> clean_stacks = GtStacks(plan, false);

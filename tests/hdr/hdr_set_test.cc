@@ -1,5 +1,5 @@
 // The HDR photo set and the three HDR render modes on a small ground-truth synthetic capture
-// (issue 6 targets): recovered response vs the true one (RMS <= 3% of linear exposure over
+// (quality targets): recovered response vs the true one (RMS <= 3% of linear exposure over
 // 10-245 DN), merged HDR at the reference views vs GT radiance (median |log ratio| <= 0.05),
 // and the modes on GT novel views. Edge cases: one series, no overlap, NaN never out.
 #include "render/hdr_photo_set.h"
@@ -84,21 +84,16 @@ TEST_F(HdrSetTest, CalibratedSetMeetsResponseAndRadianceTargets) {
 
   const ResponseCurve got = ReadResponseCurve(set.folder / set.response_file);
   const ResponseCurve truth = ReadResponseCurve(*dir_ / "calib" / "response.json");
-  // Issue 6 targets, asserted: response RMS <= 3% over 10-245 DN and merged HDR vs GT <= 0.05.
-  // Measured on this capture with the defaults (log-code smoothness, flattest 30% of the
-  // candidates, two-round trimmed refit, lambda 60; per-series renders with the renderer's
-  // Unstructured Lumigraph weights): response 0.016/0.016/0.015 B/G/R, merged 0.0366. With the
-  // trim's first (global) round alone blue is 0.034; with the paper's weights for the renders
-  // 0.049/0.017/0.012, merged 0.0431: averaging every photo blurs the 8-bit renders, which
-  // biases dark pixels next to bright ones upward. Debevec's plain method (lambda 30) gave
-  // 0.60-0.75/0.24/0.14-0.15 on the synthetic camera before its linear toe.
+  // Targets: response RMS <= 3% over 10-245 DN and merged HDR vs GT <= 0.05. The renders use
+  // the renderer's Unstructured Lumigraph weights: the paper's weights average every photo,
+  // which blurs the 8-bit renders and biases dark pixels next to bright ones upward.
   for (int c = 0; c < 3; ++c) {
     const double rms = RmsLinearError(got, truth, c), rms30 = RmsLinearError(got, truth, c, 30);
     std::printf(
         "[ figures  ] response channel %d: RMS linear error %.4f over 10-245 DN (target "
         "0.03), %.4f over 30-245 DN\n",
         c, rms, rms30);
-    EXPECT_LE(rms, 0.03) << "channel " << c;  // the issue 6 target
+    EXPECT_LE(rms, 0.03) << "channel " << c;
   }
   // A calibrated curve knows each channel up to its own factor (g(128) = 0 per channel), so
   // the scale is fitted per channel; with the true curve (next test) one global scale.
@@ -106,7 +101,7 @@ TEST_F(HdrSetTest, CalibratedSetMeetsResponseAndRadianceTargets) {
   for (double e : errors) std::printf("[ figures  ] reference view error %.4f\n", e);
   std::printf("[ figures  ] merged HDR vs GT, median over views %.4f (target 0.05)\n",
               Median(errors));
-  EXPECT_LE(Median(errors), 0.05);  // the issue 6 target
+  EXPECT_LE(Median(errors), 0.05);
 
   // The exports and the index.
   for (const HdrSetView& v : set.views) {
@@ -165,7 +160,7 @@ TEST_F(HdrSetTest, TrueResponseGlobalScaleAndModes) {
     const double n = static_cast<double>(novel.images.size());
     std::printf("[ figures  ] mode %-11s novel-view error median %.4f  coverage %.3f  %.1f ms\n",
                 HdrModeName(mode).c_str(), Median(mode_errors), coverage / n, ms / n);
-    // Regression bounds, not issue targets (the issue asks to compare the modes).
+    // Regression bounds: the modes are compared, no target.
     EXPECT_LE(Median(mode_errors), 0.1) << HdrModeName(mode);
     EXPECT_GE(coverage / n, 0.8) << HdrModeName(mode);
   }

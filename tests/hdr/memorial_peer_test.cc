@@ -22,7 +22,7 @@ ExposureStack LoadMemorial(const std::filesystem::path& dir) {
   return stack;
 }
 
-TEST(MemorialPeer, RadianceMatchesOpenCvWithin0_1) {
+TEST(MemorialPeer, RadianceMatchesOpenCv) {
   HDRIBR_REQUIRE_DATASET(dir, "memorial");
   const ExposureStack stack = LoadMemorial(dir);
   ASSERT_EQ(stack.images.size(), 16u);
@@ -49,7 +49,11 @@ TEST(MemorialPeer, RadianceMatchesOpenCvWithin0_1) {
   std::printf("memorial: median |log ratio| vs OpenCV %.4f (with OpenCV's curve: %.4f)\n", err,
               err_merge_only);
   RecordProperty("median_abs_log_ratio", std::to_string(err));
-  EXPECT_LE(err, 0.1);
+  // docs/benchmarks.md: 0.043 with the defaults, 0.023 with OpenCV's curve (the remainder is
+  // the curve); the plain method gives 0.070, a single trim round 0.048.
+  EXPECT_LE(err, 0.045);
+  EXPECT_LE(err_merge_only, 0.025);
+  EXPECT_LT(err_merge_only, err);
 }
 
 }  // namespace

@@ -122,11 +122,19 @@ TEST_F(TonemapPassTest, FixedLogAverageSmoothingAndRgba8) {
   gl::Texture display = gl::Texture::Create2D(GL_RGBA8, 8, 8);
   TonemapOptions opt;
   opt.fixed_log_average = 0.5f;
+  const gl::TimestampQuery before = gl::TimestampQuery::Create();
+  const gl::TimestampQuery after = gl::TimestampQuery::Create();
+  before.Stamp();
   EXPECT_FLOAT_EQ(pass.Apply(bright, opt, display), 0.5f);
+  after.Stamp();
   cv::Mat got = ReadBgra(display, nullptr);
   const double want = std::pow(0.72 / 1.72, 1 / 2.2);  // L_s = 0.18 / 0.5 * 2
   EXPECT_NEAR(got.at<cv::Vec3f>(4, 4)[1], want, 0.5 / 255 + 1e-6);
-  EXPECT_GE(pass.last_ms(), 0.0);
+  // The pass's GPU time lies within the test's own stamps around Apply (timestamps taken in the
+  // wrong order would wrap to about 1.8e13 ms); 1 us allowed for clock granularity.
+  ASSERT_LE(before.ResultNs(), after.ResultNs());
+  EXPECT_LE(pass.last_ms(),
+            static_cast<double>(after.ResultNs() - before.ResultNs()) * 1e-6 + 1e-3);
   // Smoothing: L_a = 0.9 previous + 0.1 current.
   opt.fixed_log_average.reset();
   opt.smoothing = 0.9f;

@@ -47,6 +47,9 @@ TEST(Image, PngRoundTripIsExactAndJpegClose) {
   EXPECT_LT(cv::norm(jpg, img, cv::NORM_L1) / img.total() / 3, 3.0);
   EXPECT_EQ(ReadImageSize(dir / "a.jpg"), cv::Size(64, 40));
   EXPECT_EQ(test::Snapshot(dir).size(), 2u) << "no temporary files left behind";
+  // A format without a header exiv2 reads: the size comes from decoding.
+  WriteImage(dir / "a.ppm", img);
+  EXPECT_EQ(ReadImageSize(dir / "a.ppm"), cv::Size(64, 40));
 }
 
 TEST(Image, GrayPngIsReadAsBgr) {

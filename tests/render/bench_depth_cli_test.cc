@@ -61,25 +61,51 @@ TEST(BenchDepthCli, BadSizeIsOneErrorLineAndNoJson) {
   EXPECT_FALSE(std::filesystem::exists(json));
 }
 
-// .ci/gpu-bench carries the executable's libraries except glibc, the C++ runtime and GL/EGL
-// (glvnd): a new dependency would make the bundle fail on the GPU machine, so it must be
-// deliberate (added here and checked there).
-TEST(BenchDepthCli, NeedsOnlyTheBundledLibraries) {
-  const auto r = test::RunCommand("objdump -p " + Exe());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::set<std::string> allowed = {"libepoxy.so.0",       "libEGL.so.1", "libglfw.so.3",
-                                         "libspdlog.so.1.10",   "libfmt.so.9", "libstdc++.so.6",
-                                         "libgcc_s.so.1",       "libm.so.6",   "libc.so.6",
-                                         "ld-linux-x86-64.so.2"};
-  const std::regex needed(R"(NEEDED\s+(\S+))");
-  std::set<std::string> found;
-  std::istringstream lines(r.output);
-  for (std::string line; std::getline(lines, line);) {
-    std::smatch m;
-    if (std::regex_search(line, m, needed)) found.insert(m[1].str());
+// .ci/gpu-bench packs the executable with every library ldd resolves for it here, except those
+// its `system` pattern leaves to the GPU machine (glibc, the C++ runtime, GL/EGL through
+// glvnd). Each library the executable needs must thus be left to the GPU machine or resolve
+// here (and so be packed), and so must every library those need in turn.
+TEST(BenchDepthCli, BundleHoldsEveryNeededLibrary) {
+  std::ifstream script(std::string(HDRIBR_SOURCE_DIR) + "/.ci/gpu-bench");
+  ASSERT_TRUE(script) << "no .ci/gpu-bench";
+  std::string pattern;
+  for (std::string line; std::getline(script, line);) {
+    const auto start = line.find("system='");
+    if (start != std::string::npos) {
+      pattern = line.substr(start + 8, line.rfind('\'') - start - 8);
+      break;
+    }
   }
-  EXPECT_TRUE(found.count("libepoxy.so.0")) << r.output;
-  for (const auto& lib : found) EXPECT_TRUE(allowed.count(lib)) << "unexpected NEEDED " << lib;
+  ASSERT_FALSE(pattern.empty()) << "no system='...' pattern in .ci/gpu-bench";
+  const std::regex left_to_gpu_machine(pattern, std::regex::extended);  // bash's =~ is ERE
+
+  const auto needed_out = test::RunCommand("objdump -p " + Exe());
+  ASSERT_EQ(needed_out.exit_code, 0) << needed_out.output;
+  const auto ldd_out = test::RunCommand("ldd " + Exe());
+  ASSERT_EQ(ldd_out.exit_code, 0) << ldd_out.output;
+  auto matches = [](const std::string& text, const std::regex& re) {
+    std::set<std::string> names;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+         ++it) {
+      names.insert((*it)[1].str());
+    }
+    return names;
+  };
+  const std::set<std::string> needed = matches(needed_out.output, std::regex(R"(NEEDED\s+(\S+))"));
+  const std::set<std::string> listed = matches(ldd_out.output, std::regex(R"((\S+) => )"));
+  const std::set<std::string> resolved =
+      matches(ldd_out.output, std::regex(R"((\S+) => /\S+ \(0x)"));
+  EXPECT_TRUE(needed.count("libepoxy.so.0")) << needed_out.output;  // the parsing works
+  for (const std::string& lib : needed) {
+    EXPECT_TRUE(listed.count(lib) || std::regex_search(lib, left_to_gpu_machine))
+        << lib << " is needed but ldd does not list it:\n"
+        << ldd_out.output;
+  }
+  for (const std::string& lib : listed) {
+    EXPECT_TRUE(resolved.count(lib) || std::regex_search(lib, left_to_gpu_machine))
+        << lib << " is neither packed nor left to the GPU machine:\n"
+        << ldd_out.output;
+  }
 }
 
 }  // namespace

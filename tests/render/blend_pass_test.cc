@@ -205,6 +205,52 @@ TEST_F(BlendPassTest, KBestAndSubsetSwitching) {
   EXPECT_GT(Coverage(nearest), 0.5);
 }
 
+// One rule for every blend option, whatever the weights, checked before any upload.
+TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
+  BlendOptions ok;
+  EXPECT_TRUE(BlendOptionProblems(ok).empty());
+  for (BlendWeights w : kAllBlendWeights) {
+    BlendOptions o;
+    o.weights = w;
+    o.k_best = kMaxKBest;
+    EXPECT_TRUE(BlendOptionProblems(o).empty());
+    o.k_best = kMaxKBest + 1;
+    ASSERT_EQ(BlendOptionProblems(o).size(), 1u);
+    EXPECT_EQ(BlendOptionProblems(o)[0].field, "k_best");
+    o.k_best = -1;
+    EXPECT_EQ(BlendOptionProblems(o).size(), 1u);
+  }
+  BlendOptions bad;
+  bad.lambda = 1.0f;
+  bad.occlusion_tolerance = 0.0f;
+  const auto problems = BlendOptionProblems(bad);
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].field, "lambda");
+  EXPECT_EQ(problems[1].field, "occlusion_tolerance");
+  try {
+    ValidateBlendOptions(bad);
+    ADD_FAILURE() << "no OptionError";
+  } catch (const OptionError& e) {
+    EXPECT_EQ(e.field(), "lambda");
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+  }
+  // The renderer refuses them before it reads a photo: a scene whose photos do not exist.
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  Scene missing;
+  missing.cameras[1] = Camera::Pinhole(1, 64, 48, 50, 50, 32, 24);
+  Photo p;
+  p.camera_id = 1;
+  p.image_path = "/nonexistent/photo.png";
+  missing.photos.push_back(p);
+  RendererOptions ro;
+  ro.blend.k_best = 40;
+  ro.blend.weights = BlendWeights::kPaper;
+  EXPECT_THROW(Renderer(shaders, missing, ro), OptionError);
+  ro.blend.k_best = 4;
+  EXPECT_THROW(Renderer(shaders, missing, ro), InputError);  // the photo, read after the check
+}
+
 TEST_F(BlendPassTest, UnstructuredLumigraphWeights) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include "analytic_scene.h"
@@ -71,8 +73,11 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
   const Camera cam = test::TestCamera(256);
   DepthPass pass(*shaders_);
   pass.SetPoints(pc);
+  std::map<DepthMode, double> worst_acc, worst_leak;
   for (DepthMode mode : AllDepthModes()) {
-    double acc = 0, leak = 0, worst_acc = 1, worst_leak = 0;
+    double acc = 0, leak = 0;
+    worst_acc[mode] = 1;
+    worst_leak[mode] = 0;
     const auto views = AccuracyViews();
     for (const Rigid3d& view : views) {
       const cv::Mat gt = scene.GroundTruthDepth(cam, view);
@@ -81,18 +86,30 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
           depth, gt, DepthModeName(mode) + "_" + std::to_string(&view - views.data()));
       acc += s.accuracy() / views.size();
       leak += s.leakage() / views.size();
-      worst_acc = std::min(worst_acc, s.accuracy());
-      worst_leak = std::max(worst_leak, s.leakage());
+      worst_acc[mode] = std::min(worst_acc[mode], s.accuracy());
+      worst_leak[mode] = std::max(worst_leak[mode], s.leakage());
     }
     std::printf(
         "[ figures  ] %-9s accuracy(1%%) %.2f%% (worst view %.2f%%)  leakage %.3f%% "
         "(worst %.3f%%)\n",
-        DepthModeName(mode).c_str(), 100 * acc, 100 * worst_acc, 100 * leak, 100 * worst_leak);
-    if (mode == DepthMode::kLechelek) {
-      EXPECT_GE(worst_acc, 0.97);    // issue 4 target
-      EXPECT_LE(worst_leak, 0.005);  // issue 4 target
-    }
+        DepthModeName(mode).c_str(), 100 * acc, 100 * worst_acc[mode], 100 * leak,
+        100 * worst_leak[mode]);
   }
+  // Regression bounds a little below / above the figures measured (worst view, Mesa llvmpipe):
+  // plain 95.9% / 0.10%, marroquim 92.1% / 7.0%, lechelek 98.5% / 0.03%.
+  // plain: constant-depth splats err on slanted surfaces but hardly leak.
+  EXPECT_GE(worst_acc[DepthMode::kPlain], 0.955);
+  EXPECT_LE(worst_leak[DepthMode::kPlain], 0.002);
+  // marroquim: pull-push fills the holes of the foreground with the surfaces behind it.
+  EXPECT_GE(worst_acc[DepthMode::kMarroquim], 0.915);
+  EXPECT_LE(worst_leak[DepthMode::kMarroquim], 0.08);
+  EXPECT_GE(worst_leak[DepthMode::kMarroquim], 0.03);
+  // lechelek: the most accurate, and it does not leak.
+  EXPECT_GE(worst_acc[DepthMode::kLechelek], 0.98);
+  EXPECT_LE(worst_leak[DepthMode::kLechelek], 0.001);
+  EXPECT_GT(worst_acc[DepthMode::kLechelek], worst_acc[DepthMode::kPlain]);
+  EXPECT_GT(worst_acc[DepthMode::kPlain], worst_acc[DepthMode::kMarroquim]);
+  EXPECT_LT(worst_leak[DepthMode::kLechelek], worst_leak[DepthMode::kPlain]);
 }
 
 TEST_F(DepthPassTest, StepOnePinholesAreCoveredGapsAreNot) {
@@ -216,7 +233,13 @@ TEST_F(DepthPassTest, SilhouetteStabilityOverOrbit) {
     std::printf("[ figures  ] %-9s silhouette toggles per frame %.1f\n",
                 DepthModeName(mode).c_str(), toggles[mode]);
   }
-  EXPECT_LE(toggles[DepthMode::kLechelek], 0.5 * toggles[DepthMode::kMarroquim]);  // issue 4
+  // Measured (Mesa llvmpipe): plain 0.3, marroquim 2.5, lechelek 0.3. Pull-push of the
+  // whole image (marroquim) makes the silhouette flicker; the constant-depth splats of plain
+  // and lechelek's layered pull-push do not.
+  EXPECT_GE(toggles[DepthMode::kMarroquim], 1.5);
+  EXPECT_LE(toggles[DepthMode::kPlain], 1.0);
+  EXPECT_LE(toggles[DepthMode::kLechelek], 1.0);
+  EXPECT_LE(toggles[DepthMode::kLechelek], 0.5 * toggles[DepthMode::kMarroquim]);
 }
 
 TEST_F(DepthPassTest, LayeredClassificationEqualsTwoDraws) {

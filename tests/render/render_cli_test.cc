@@ -108,13 +108,29 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
   r = test::RunCommand(base + " --camera s0_v00.jpg --hdr-mode direct --gamma nan --out " +
                        (out / "x.png").string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
-  for (const std::string bad : {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2"}) {
+  for (const std::string bad : {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2",
+                                "--k-best 40 --weights paper", "--k-best 33"}) {
     r = test::RunCommand(base + " --camera s0_v00.jpg " + bad + " --out " +
                          (out / "x.png").string());
     EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
     EXPECT_NE(r.output.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.output;
   }
   EXPECT_FALSE(std::filesystem::exists(out / "x.png"));
+  // An output among the workspace's photos (the next load would take it for one) is refused,
+  // with one line naming it; so is an output folder there.
+  const auto images = Dir() / "workspace" / "images";
+  const size_t photos_before = std::distance(std::filesystem::directory_iterator(images), {});
+  r = test::RunCommand(base + " --camera s0_v00.jpg --out " + (images / "new.png").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("new.png: inside the workspace's input folder"), std::string::npos)
+      << r.output;
+  r = test::RunCommand(base + " --path " + (out / "none.json").string() + " --out-dir " +
+                       (images / "frames").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  r = test::RunCommand(Exe() + " eval " + Ws() + " --leave-one-out --out " +
+                       (images / "eval").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(images), {}), photos_before);
 
   // A photo missing on disk: an error naming the file, no output.
   const auto ws = out / "ws";

@@ -1,11 +1,13 @@
-// Viewer navigation (orbit, fly, zoom, transitions, nearest photo), the demo orbit and the
-// camera-path recorder: pure math, no GL.
+// Viewer navigation (orbit, fly, zoom, transitions, scene up), the Eigen <-> GLM conversions,
+// the demo orbit and the camera-path recorder: pure math, no GL.
 #include "viewer/camera_controller.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "core/projection.h"
+#include "viewer/glm_eigen.h"
 #include "viewer/orbit.h"
 #include "viewer/recorder.h"
 
@@ -106,17 +108,117 @@ TEST(CameraController, TransitionIsSmoothAndEndsOnTheTarget) {
   EXPECT_TRUE(c.eye().isApprox(Eigen::Vector3d(4, 0, 0), 1e-9));
 }
 
-TEST(Navigation, NearestPhotoAndSceneUp) {
+TEST(Navigation, SceneUp) {
   const Scene s = RingScene();
   EXPECT_TRUE(SceneUp(s).isApprox(Eigen::Vector3d(0, 0, 1), 0.1));
-  for (int i = 0; i < 8; ++i) {
-    EXPECT_EQ(NearestPhoto(s, s.photos[static_cast<size_t>(i)].cam_from_world), i);
+  EXPECT_TRUE(SceneUp(Scene{}).isApprox(Eigen::Vector3d(0, 0, 1)));
+}
+
+TEST(GlmEigen, RoundTripsAreExact) {
+  const Eigen::Vector3d v(0.1, -2.5e7, 1.0 / 3.0);
+  const glm::dvec3 gv = ToGlm(v);
+  EXPECT_EQ(gv.x, v.x());
+  EXPECT_EQ(gv.y, v.y());
+  EXPECT_EQ(gv.z, v.z());
+  EXPECT_EQ(ToEigen(gv), v);
+  const Eigen::Vector3f vf(0.1f, -3.0f, 1e-30f);
+  EXPECT_EQ(ToEigen(ToGlm(vf)), vf);
+
+  // GLM's quaternion constructor is (w, x, y, z), its storage x, y, z, w: same rotation.
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -3).normalized()));
+  const glm::dquat gq = ToGlm(q);
+  EXPECT_EQ(gq.w, q.w());
+  EXPECT_EQ(gq.x, q.x());
+  EXPECT_EQ(gq.y, q.y());
+  EXPECT_EQ(gq.z, q.z());
+  EXPECT_EQ(ToEigen(gq).coeffs(), q.coeffs());
+  EXPECT_TRUE(ToEigen(gq * ToGlm(v)).isApprox(q * v, 1e-15));
+
+  // A rigid pose: its parts round-trip exactly, its GL matrix is Matrix4() and acts the same.
+  const Rigid3d pose = LookAt({1, 2, 3}, {0, 0.5, 0}, {0, 0, 1});
+  const Rigid3d back(ToEigen(ToGlm(pose.rotation)), ToEigen(ToGlm(pose.translation)));
+  EXPECT_EQ(back.rotation.coeffs(), pose.rotation.coeffs());
+  EXPECT_EQ(back.translation, pose.translation);
+  const glm::dmat4 m = ToGlm(pose);
+  EXPECT_EQ(ToEigen(m), pose.Matrix4());
+  const glm::dvec4 x = m * glm::dvec4(ToGlm(v), 1.0);
+  EXPECT_TRUE(ToEigen(glm::dvec3(x)).isApprox(pose * v, 1e-12));
+  EXPECT_EQ(x.w, 1.0);
+
+  // Matrices: element (row r, column c) is GLM's [c][r], in float and double.
+  Eigen::Matrix4d md;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) md(r, c) = 10 * r + c + 0.125;
   }
-  // Slightly off photo 3's viewpoint, still photo 3.
-  const double a = 2 * M_PI * 3.2 / 8;
-  EXPECT_EQ(NearestPhoto(s, LookAt({4 * std::cos(a), 4 * std::sin(a), 1.2}, {0, 0, 0}, {0, 0, 1})),
-            3);
-  EXPECT_EQ(NearestPhoto(Scene{}, Rigid3d{}), -1);
+  EXPECT_EQ(ToGlm(md)[2][1], md(1, 2));
+  EXPECT_EQ(ToEigen(ToGlm(md)), md);
+  const Eigen::Matrix4f clip =
+      ClipFromCam(Camera::Pinhole(1, 160, 120, 150, 140, 81, 59.5), 0.1f, 50.0f);
+  const glm::mat4 gclip = ToGlm(clip);
+  EXPECT_EQ(ToEigen(gclip), clip);
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(gclip[c][r], clip(r, c));
+  }
+  const Eigen::Vector4f p(0.3f, -0.2f, 2.0f, 1.0f);
+  const glm::vec4 gp = gclip * glm::vec4(p.x(), p.y(), p.z(), p.w());
+  const Eigen::Vector4f ep = clip * p;
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(gp[i], ep(i), 1e-6f);
+}
+
+// The controller's GLM math against the same navigation written with Eigen.
+TEST(CameraController, GlmPosesEqualTheEigenExpectation) {
+  const Eigen::Vector3d pivot(1, 1, 0), up(0, 0, 1);
+  const double scale = 2;
+  CameraController c(pivot, scale, up);
+  const Rigid3d start = LookAt({4, 1, 0.5}, pivot, up);
+  c.SetPose(start);
+  Eigen::Vector3d eye = start.Inverse().translation;
+  Eigen::Quaterniond world_from_cam = start.rotation.inverse();
+  const auto expect_pose = [&](const char* what) {
+    SCOPED_TRACE(what);
+    const Rigid3d got = c.cam_from_world();
+    const Eigen::Quaterniond rot = world_from_cam.inverse();
+    EXPECT_TRUE(got.rotation.coeffs().isApprox(rot.coeffs(), 1e-12));
+    EXPECT_TRUE(got.translation.isApprox(-(rot * eye), 1e-12));
+    EXPECT_TRUE(c.eye().isApprox(eye, 1e-12));
+  };
+  expect_pose("SetPose");
+
+  Eigen::Vector3d right = world_from_cam * Eigen::Vector3d::UnitX();
+  Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(-0.7, up)) *
+                         Eigen::Quaterniond(Eigen::AngleAxisd(-0.2, right));
+  c.Orbit(0.7, 0.2);
+  eye = pivot + q * (eye - pivot);
+  world_from_cam = (q * world_from_cam).normalized();
+  expect_pose("Orbit");
+
+  right = world_from_cam * Eigen::Vector3d::UnitX();
+  q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, up)) *
+      Eigen::Quaterniond(Eigen::AngleAxisd(-0.1, right));
+  c.Look(-0.3, 0.1);
+  world_from_cam = (q * world_from_cam).normalized();
+  expect_pose("Look");
+
+  c.speed_factor = 0.5;
+  c.Fly({0.5, -1, 0.25}, 0.1);
+  eye += world_from_cam * Eigen::Vector3d(0.5, -1, 0.25) * (0.5 * scale * 0.1);
+  expect_pose("Fly");
+
+  const Eigen::Vector3d ray(0.2, -0.1, 1);
+  const double step = 0.15 * (eye - pivot).norm();
+  c.ZoomTowards(ray, 2);
+  eye += world_from_cam * ray.normalized() * (step * 2);
+  expect_pose("ZoomTowards");
+
+  const Rigid3d target = LookAt({-3, 2, 1}, pivot, up);
+  c.TransitionTo(target, 1.0);
+  c.Update(0.3);
+  const double s = 0.3 * 0.3 * (3 - 2 * 0.3);
+  const Eigen::Vector3d target_eye = target.Inverse().translation;
+  eye += s * (target_eye - eye);
+  world_from_cam = world_from_cam.slerp(s, target.rotation.inverse()).normalized();
+  expect_pose("Update");
 }
 
 TEST(Orbit, LooksAtTheCentroidFromThePhotosDistance) {

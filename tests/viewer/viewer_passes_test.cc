@@ -1,6 +1,6 @@
 // The viewer's GPU passes on a headless context: the false-colour displays equal the CPU
-// pictures of `hdribr render --debug` (render::FalseColour), and frustum lines are hidden
-// exactly where the scene's depth is nearer.
+// pictures of `hdribr render --debug` (FalseColour, io/false_colour.h), and frustum lines are
+// hidden exactly where the scene's depth is nearer.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "gl/context.h"
 #include "gl/shader_library.h"
-#include "render/render_output.h"
+#include "io/false_colour.h"
 #include "render/renderer.h"
 #include "viewer/false_colour_pass.h"
 #include "viewer/frustum_pass.h"
@@ -67,7 +67,7 @@ TEST(ViewerFalseColourPass, EqualsTheCpuDebugPictures) {
   double lo = 0, hi = 0;
   cv::minMaxLoc(depth, &lo, &hi, nullptr, nullptr, valid);
   bool alpha_ok = false;
-  cv::Mat expected = render::FalseColour(-depth, -hi, -lo, valid);
+  cv::Mat expected = FalseColour(-depth, -hi, -lo, valid);
   EXPECT_LE(Mismatches(ReadRgba8(display), expected, valid, &alpha_ok), w * h / 100);
   EXPECT_TRUE(alpha_ok);
 
@@ -84,7 +84,7 @@ TEST(ViewerFalseColourPass, EqualsTheCpuDebugPictures) {
   pass.Apply(FalseColourMap::kCount, target, photos, display);
   std::vector<cv::Mat> a;
   cv::split(aux, a);
-  expected = render::FalseColour(a[0], 0, photos, valid);
+  expected = FalseColour(a[0], 0, photos, valid);
   EXPECT_EQ(Mismatches(ReadRgba8(display), expected, valid, &alpha_ok), 0);
   EXPECT_TRUE(alpha_ok);
   // Classes: front orange, background-filled blue, anything else grey (where depth is valid).

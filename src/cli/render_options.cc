@@ -1,0 +1,58 @@
+#include "cli/render_options.h"
+
+#include <climits>
+
+#include "cli/cli_util.h"
+#include "core/error.h"
+
+namespace hdribr::cli {
+
+CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode) {
+  return app
+      .add_option("--depth-mode", mode, "Depth pass: plain, marroquim or lechelek (the paper)")
+      ->transform(
+          NamesTo(NameMap<render::DepthMode>(render::AllDepthModes(), render::DepthModeName)))
+      ->default_str(render::DepthModeName(mode));
+}
+
+void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
+  app.add_option("--weights", blend.weights,
+                 "Blending weights: ulr (Unstructured Lumigraph, K best) or paper (eq. 5, all)")
+      ->transform(NamesTo(
+          NameMap<render::BlendWeights>(render::kAllBlendWeights, render::BlendWeightsName)))
+      ->default_str(render::BlendWeightsName(blend.weights));
+  app.add_option("--k-best", blend.k_best,
+                 "K best photos per pixel (0: " + std::to_string(render::kDefaultUnstructuredK) +
+                     " for ulr, all for paper; at most " + std::to_string(render::kMaxKBest) + ")")
+      ->capture_default_str();
+  app.add_option("--lambda", blend.lambda, "Grazing-angle threshold on N . V_k, in [0, 1)")
+      ->capture_default_str();
+  app.add_option("--tolerance", blend.occlusion_tolerance,
+                 "Occlusion test: relative depth tolerance, in (0, 1)")
+      ->capture_default_str();
+}
+
+CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size) {
+  return app
+      .add_option("--max-photo-size", max_photo_size,
+                  "Longest side of photos on the GPU (0 = full size)")
+      ->capture_default_str()
+      ->check(kAtLeastZero);
+}
+
+void AddRendererOptions(CLI::App& app, render::RendererOptions& options) {
+  AddDepthModeOption(app, options.depth.mode);
+  AddBlendOptions(app, options.blend);
+  AddMaxPhotoSizeOption(app, options.max_photo_size);
+}
+
+void CheckBlendOptions(const render::BlendOptions& blend) {
+  static const FlagNames kFlags = {
+      {"k_best", "--k-best"}, {"lambda", "--lambda"}, {"occlusion_tolerance", "--tolerance"}};
+  RunNamingFlags(kFlags, [&] {
+    render::ValidateBlendOptions(blend);
+    return 0;
+  });
+}
+
+}  // namespace hdribr::cli

@@ -1,0 +1,61 @@
+// The renderer's command-line options, bound in one place for every subcommand that renders:
+// flag names, defaults (the option structs' own), help and checks.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "render/blend_options.h"
+#include "render/depth_pass.h"
+#include "render/renderer.h"
+
+namespace hdribr::cli {
+
+// --depth-mode NAME into `mode` (names from render::DepthModeName).
+CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode);
+// --weights, --k-best, --lambda, --tolerance into `blend`; CheckBlendOptions validates them.
+void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
+// --max-photo-size PX into `max_photo_size` (0 = full size).
+CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size);
+// The three above on `options` (depth mode, blend options, photo size).
+void AddRendererOptions(CLI::App& app, render::RendererOptions& options);
+
+// Throws UsageError naming the flag of the first blend option that no blend can use
+// (render::BlendOptionProblems); call before any work.
+void CheckBlendOptions(const render::BlendOptions& blend);
+
+// Name -> value for a CLI11 CheckedTransformer, from a name function over every value.
+template <typename Enum, typename Values, typename NameOf>
+std::map<std::string, Enum> NameMap(const Values& values, NameOf name_of) {
+  std::map<std::string, Enum> map;
+  for (Enum v : values) map.emplace(name_of(v), v);
+  return map;
+}
+
+// Name -> value from a table of (name, value) pairs.
+template <typename Enum>
+std::map<std::string, Enum> EnumMap(const std::vector<std::pair<std::string, Enum>>& names) {
+  return {names.begin(), names.end()};
+}
+
+// A CLI11 transformer from the names of `map` to their values (for an option bound to an
+// enum); its help lists the names, its error says which ones exist.
+template <typename Enum>
+CLI::Validator NamesTo(const std::map<std::string, Enum>& map) {
+  std::string names;
+  for (const auto& entry : map) names += (names.empty() ? "" : ", ") + entry.first;
+  return CLI::Validator(
+      [map, names](std::string& value) -> std::string {
+        const auto it = map.find(value);
+        if (it == map.end()) return "must be one of " + names + ", got '" + value + "'";
+        value = std::to_string(static_cast<std::underlying_type_t<Enum>>(it->second));
+        return {};
+      },
+      "{" + names + "}");
+}
+
+}  // namespace hdribr::cli

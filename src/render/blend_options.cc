@@ -1,0 +1,44 @@
+#include "render/blend_options.h"
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace hdribr::render {
+
+std::string BlendWeightsName(BlendWeights weights) {
+  return weights == BlendWeights::kUnstructured ? "ulr" : "paper";
+}
+
+BlendWeights ParseBlendWeights(const std::string& name) {
+  for (BlendWeights w : kAllBlendWeights) {
+    if (BlendWeightsName(w) == name) return w;
+  }
+  throw UsageError("unknown blending weights '" + name + "' (paper, ulr)");
+}
+
+std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options) {
+  std::vector<BlendOptionProblem> problems;
+  if (options.k_best < 0 || options.k_best > kMaxKBest) {
+    problems.push_back({"k_best", "must be in [0, " + std::to_string(kMaxKBest) +
+                                      "] (0 = the default), got " +
+                                      std::to_string(options.k_best)});
+  }
+  if (!(options.lambda >= 0.0f && options.lambda < 1.0f)) {
+    problems.push_back({"lambda", "must be in [0, 1), got " + std::to_string(options.lambda)});
+  }
+  if (!(options.occlusion_tolerance > 0.0f && options.occlusion_tolerance < 1.0f)) {
+    problems.push_back({"occlusion_tolerance",
+                        "must be in (0, 1), got " + std::to_string(options.occlusion_tolerance)});
+  }
+  return problems;
+}
+
+void ValidateBlendOptions(const BlendOptions& options) {
+  const std::vector<BlendOptionProblem> problems = BlendOptionProblems(options);
+  if (!problems.empty()) {
+    throw OptionError(problems[0].field, problems[0].problem);
+  }
+}
+
+}  // namespace hdribr::render

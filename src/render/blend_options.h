@@ -1,0 +1,68 @@
+// Options of the blend pass (Lechelek et al. 2019, sec. 4, eqs. 1-5, and the Unstructured
+// Lumigraph weights), their names and their one validity rule.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace hdribr::render {
+
+// What the blend pass computes per pixel.
+enum class BlendMode {
+  kBlend,         // blend the photos that see the point (weights: BlendWeights)
+  kNearestPhoto,  // baseline: projective texturing from the single photo nearest the view
+};
+
+// The blending weights of BlendMode::kBlend.
+enum class BlendWeights {
+  kPaper,         // LEC19 eq. 5: max(0, V . V_k) / (delta_k + 1) over all (or the K best)
+  kUnstructured,  // Unstructured Lumigraph (Buehler et al. 2001): K smallest angle + delta
+                  // penalties p_k, w_k = (1 - p_k / p_(K+1)) / p_k
+};
+
+// Every BlendWeights value, in declaration order.
+inline constexpr BlendWeights kAllBlendWeights[] = {BlendWeights::kPaper,
+                                                    BlendWeights::kUnstructured};
+
+// "paper", "ulr"; ParseBlendWeights throws UsageError for anything else.
+std::string BlendWeightsName(BlendWeights weights);
+BlendWeights ParseBlendWeights(const std::string& name);
+
+// K of BlendWeights::kUnstructured when BlendOptions::k_best is 0.
+inline constexpr int kDefaultUnstructuredK = 4;
+// Largest K of BlendOptions::k_best handled per pixel (MAX_K in shaders/blend.comp).
+inline constexpr int kMaxKBest = 32;
+
+// How photo pixels are turned into the blended value.
+enum class PhotoEncoding {
+  kDisplay,   // the photo's stored values (8-bit / 255, or float for an HDR photo set)
+  kRadiance,  // direct radiance blending: exp(g(Z)) / relative exposure, blending weight
+              // times Debevec's hat weight of Z; needs a response curve
+};
+
+struct BlendOptions {
+  BlendMode mode = BlendMode::kBlend;
+  PhotoEncoding encoding = PhotoEncoding::kDisplay;
+  // Unstructured Lumigraph by default (closer to held-out photos than eq. 5, see
+  // docs/benchmarks.md); kPaper is the paper's blending exactly.
+  BlendWeights weights = BlendWeights::kUnstructured;
+  int k_best = 0;        // 0 = all photos for kPaper (the paper), kDefaultUnstructuredK for ULR
+  float lambda = 1e-4f;  // a photo counts when N_p . V_k > lambda (paper eq. 3)
+  float occlusion_tolerance = 0.01f;  // |z_k(P) - depth_k| <= tolerance * depth_k passes
+  int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
+};
+
+// One BlendOptions field that no blend can use.
+struct BlendOptionProblem {
+  std::string field;    // the BlendOptions member: "k_best", "lambda", "occlusion_tolerance"
+  std::string problem;  // e.g. "must be in [0, 32] (0 = the default), got 40"
+};
+
+// The fields of `options` outside their valid ranges: k_best in [0, kMaxKBest] whatever the
+// weights, lambda in [0, 1), occlusion_tolerance in (0, 1). Empty when the options are usable.
+std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options);
+
+// Throws OptionError(field, problem) for the first of BlendOptionProblems.
+void ValidateBlendOptions(const BlendOptions& options);
+
+}  // namespace hdribr::render

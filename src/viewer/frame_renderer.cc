@@ -1,0 +1,261 @@
+#include "viewer/frame_renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+#include <utility>
+#include <vector>
+
+#include "io/image.h"
+#include "render/render_output.h"
+
+namespace hdribr::viewer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+void ClearWindow(int fb_width, int fb_height) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, fb_width, fb_height);
+  glClearColor(0.08f, 0.08f, 0.08f, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+}
+
+void SaveWindow(const std::filesystem::path& png, int fb_width, int fb_height) {
+  cv::Mat rgb(fb_height, fb_width, CV_8UC3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, fb_width, fb_height, GL_RGB, GL_UNSIGNED_BYTE, rgb.ptr());
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  cv::flip(bgr, bgr, 0);  // GL rows start at the bottom
+  WriteImage(png, bgr);
+  std::printf("window screenshot: %s\n", png.c_str());
+}
+
+FrameRenderer::FrameRenderer(const Scene& scene, const Camera& camera,
+                             std::filesystem::path workspace, int max_photo_size)
+    : scene_(scene),
+      camera_(camera),
+      workspace_(std::move(workspace)),
+      max_photo_size_(max_photo_size),
+      tonemap_pass_(shaders_),
+      false_colour_(shaders_),
+      frustum_pass_(shaders_),
+      point_pass_(shaders_) {
+  frustum_pass_.SetLines(MakeFrustumLines(scene_, 0.15 * scene_.scene_scale));
+  // The cloud's sRGB colours (BGR, 0..1); grey when it has none.
+  const PointCloud& cloud = scene_.points;
+  point_colours_known_ = cloud.HasColors();
+  std::vector<Eigen::Vector3f> bgr(cloud.size(), Eigen::Vector3f::Constant(0.5f));
+  for (size_t i = 0; point_colours_known_ && i < cloud.size(); ++i) {
+    const auto& c = cloud.colors[i];
+    bgr[i] = Eigen::Vector3f(c[2], c[1], c[0]) / 255.0f;
+  }
+  point_pass_.SetPoints(cloud, bgr);
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+size_t FrameRenderer::photo_count() const { return BaseRenderer().scene().photos.size(); }
+
+void FrameRenderer::Load(ViewState& state) {
+  if (state.display_changed) options_dirty_ = true;  // the blend mode may change
+  if (state.tone_changed) display_dirty_ = true;
+  state.display_changed = state.tone_changed = false;
+  const Settings& s = state.settings;
+  if (loaded_ && s == loaded_settings_ && !options_dirty_) return;
+  const bool reload = !loaded_ || s.source != loaded_settings_.source;
+  options_dirty_ = false;
+  if (reload) {
+    hdr_.reset();
+    ldr_.reset();
+    render::RendererOptions ro;
+    ro.max_photo_size = max_photo_size_;
+    const auto t0 = Clock::now();
+    std::printf("loading %zu photos, computing their depth maps (%s)...\n", scene_.photos.size(),
+                HdrSourceName(s.source).c_str());
+    std::fflush(stdout);
+    if (s.source == HdrSource::kLdr) {
+      ldr_ = std::make_unique<render::Renderer>(shaders_, scene_, ro);
+    } else {
+      if (!set_) {
+        set_ = std::make_unique<render::LoadedHdrPhotoSet>(
+            render::LoadHdrPhotoSet(scene_, workspace_ / render::kHdrSetFolder));
+      }
+      hdr_ = std::make_unique<render::HdrRenderer>(shaders_, scene_, HdrModeOf(s.source),
+                                                   set_->response, ro, set_.get());
+    }
+    std::printf("loaded in %.1f s, GPU memory %.1f MiB\n",
+                std::chrono::duration<double>(Clock::now() - t0).count(),
+                BaseRenderer().gpu_bytes() / 1048576.0);
+  }
+  render::Renderer& r = BaseRenderer();
+  r.blend_options().weights = s.weights;
+  r.blend_options().k_best = s.k_best;
+  r.blend_options().lambda = s.lambda;
+  r.blend_options().occlusion_tolerance = s.tolerance;
+  r.blend_options().mode = state.display == DisplayMode::kNearestPhoto
+                               ? render::BlendMode::kNearestPhoto
+                               : render::BlendMode::kBlend;
+  r.depth_pass().options().mode = s.depth_mode;
+  if (ldr_) {
+    if (s.series >= 0) {
+      ldr_->SetActivePhotos(scene_.series[static_cast<size_t>(s.series)].photo_indices);
+    } else {
+      ldr_->SetAllPhotosActive();
+    }
+  }
+  loaded_settings_ = s;
+  loaded_ = true;
+  render_dirty_ = true;
+  tonemap_pass_.ResetHistory();
+}
+
+void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int width, int height) {
+  if (width <= 0 || height <= 0) return;  // minimised
+  if (target_.width() != width || target_.height() != height) {
+    target_ = render::RenderTarget::Create(width, height);
+    display_ = gl::Texture::Create2D(GL_RGBA8, width, height);
+    display_fb_ = gl::Framebuffer::Create();
+    display_fb_.AttachColor(0, display_);
+    composite_ = gl::Texture::Create2D(GL_RGBA8, width, height);
+    composite_fb_ = gl::Framebuffer::Create();
+    composite_fb_.AttachColor(0, composite_);
+    splats_ = gl::Texture::Create2D(GL_RGBA32F, width, height);
+    render_dirty_ = true;
+  }
+  if (!pose.rotation.isApprox(rendered_pose_.rotation, 1e-12) ||
+      !pose.translation.isApprox(rendered_pose_.translation, 1e-12)) {
+    render_dirty_ = true;
+  }
+  if (render_dirty_) {
+    const auto t0 = Clock::now();
+    const Camera cam = camera_.Scaled(width, height);
+    if (hdr_) {
+      hdr_->Render(cam, pose, target_);
+    } else {
+      ldr_->Render(cam, pose, target_);
+    }
+    if (state.display == DisplayMode::kPointColours) RenderSplats(cam, pose);
+    glFinish();
+    stats_.render_wall_ms = MsSince(t0);
+    stats_.render_gpu = BaseRenderer().last_times();
+    rendered_pose_ = pose;
+    render_dirty_ = false;
+    display_dirty_ = true;
+  }
+  if (display_dirty_) {
+    const auto t0 = Clock::now();
+    ToneMap(state);
+    glFinish();
+    stats_.tonemap_wall_ms = MsSince(t0);
+    display_dirty_ = false;
+  }
+}
+
+// The radiance target (or the splats, or a false-colour map of it) into display_.
+void FrameRenderer::ToneMap(const ViewState& state) {
+  const int photos = static_cast<int>(scene_.photos.size());
+  switch (state.display) {
+    case DisplayMode::kFinal:
+    case DisplayMode::kNearestPhoto: {
+      render::TonemapOptions o = state.tonemap;
+      o.exposure = std::exp2(state.exposure_ev);
+      if (!state.auto_la) o.fixed_log_average = state.fixed_la;
+      stats_.last_la = tonemap_pass_.Apply(target_.color, o, display_);
+      stats_.tonemap_gpu_ms = tonemap_pass_.last_ms();
+      break;
+    }
+    case DisplayMode::kPointColours: {
+      // The cloud's colours are display values (sRGB 8-bit): exposure only, no curve.
+      render::TonemapOptions o;
+      o.enabled = false;
+      o.exposure = std::exp2(state.exposure_ev);
+      o.gamma = 1.0f;
+      tonemap_pass_.Apply(splats_, o, display_);
+      stats_.tonemap_gpu_ms = tonemap_pass_.last_ms();
+      break;
+    }
+    case DisplayMode::kDepth:
+      false_colour_.Apply(FalseColourMap::kDepth, target_, photos, display_);
+      stats_.tonemap_gpu_ms = 0;
+      break;
+    case DisplayMode::kNormals:
+      false_colour_.Apply(FalseColourMap::kNormals, target_, photos, display_);
+      stats_.tonemap_gpu_ms = 0;
+      break;
+    case DisplayMode::kCount:
+      false_colour_.Apply(FalseColourMap::kCount, target_, photos, display_);
+      stats_.tonemap_gpu_ms = 0;
+      break;
+    case DisplayMode::kClasses:
+      if (target_.depth.classes.empty()) {  // a depth pass without classes: nothing to show
+        glClearTexImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+      } else {
+        false_colour_.Apply(FalseColourMap::kClasses, target_, photos, display_,
+                            &target_.depth.classes);
+      }
+      stats_.tonemap_gpu_ms = 0;
+      break;
+  }
+}
+
+// Colour-per-point splats (the paper's Fig. 8 baseline) into splats_, for the tone-map pass.
+void FrameRenderer::RenderSplats(const Camera& cam, const Rigid3d& pose) {
+  const render::PointColorImages im =
+      point_pass_.Render(cam, pose, splats_.width(), splats_.height());
+  cv::Mat rgba;
+  cv::cvtColor(im.color, rgba, cv::COLOR_BGR2RGBA);
+  rgba.setTo(cv::Scalar(0, 0, 0, 0), im.valid == 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(splats_.id(), 0, 0, 0, rgba.cols, rgba.rows, GL_RGBA, GL_FLOAT, rgba.ptr());
+}
+
+void FrameRenderer::Blit(int fb_width, int fb_height, bool frustums, int current_photo) {
+  ClearWindow(fb_width, fb_height);
+  if (display_.empty()) return;
+  GLuint source = display_fb_.id();
+  if (frustums) {
+    // Frustums over a copy, so that display_ (the screenshot) stays the bare picture.
+    glCopyImageSubData(display_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, composite_.id(), GL_TEXTURE_2D, 0,
+                       0, 0, 0, display_.width(), display_.height(), 1);
+    frustum_pass_.Draw(camera_.Scaled(display_.width(), display_.height()), rendered_pose_,
+                       target_.depth.depth, composite_fb_, current_photo);
+    source = composite_fb_.id();
+  }
+  // The display texture's row 0 is the image's top row; the window's row 0 is its bottom.
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, fb_width, fb_height);
+  glBlitNamedFramebuffer(source, 0, 0, 0, display_.width(), display_.height(), 0, fb_height,
+                         fb_width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
+std::filesystem::path FrameRenderer::Screenshot(const std::filesystem::path& out) {
+  const bool exr = out.extension() == ".exr";
+  std::filesystem::path png = exr ? std::filesystem::path(out).replace_extension(".png") : out;
+  std::filesystem::path exr_path = std::filesystem::path(out).replace_extension(".exr");
+  cv::Mat rgba(display_.height(), display_.width(), CV_8UC4);
+  glGetTextureImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                    static_cast<GLsizei>(rgba.total() * rgba.elemSize()), rgba.ptr());
+  cv::Mat bgra;
+  cv::cvtColor(rgba, bgra, cv::COLOR_RGBA2BGRA);
+  WriteImage(png, bgra);
+  const render::RenderImages im = render::Renderer::Read(target_);
+  cv::Mat linear = im.color;
+  if (hdr_ && hdr_->target_scale() != 1.0) linear = im.color / hdr_->target_scale();
+  render::WriteRgbaExr(exr_path, linear, im.valid);
+  std::printf("screenshot: %s (tone-mapped), %s (linear)\n", png.c_str(), exr_path.c_str());
+  return png;
+}
+
+}  // namespace hdribr::viewer
