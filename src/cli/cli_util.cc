@@ -24,7 +24,9 @@ const FlagNames& ReconstructFlags() {
                                   {"dense_options.num_depths", "--dense-depths"},
                                   {"dense_options.num_neighbors", "--dense-neighbors"},
                                   {"threads", "--threads"},
-                                  {"vocab_tree", "--vocab-tree"}};
+                                  {"vocab_tree", "--vocab-tree"},
+                                  {"dense", "--dense"},
+                                  {"matching", "--matching"}};
   return flags;
 }
 

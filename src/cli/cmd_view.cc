@@ -81,7 +81,7 @@ CommandRunner SetupView(CLI::App& sub) {
     for (const auto& out : {opt->screenshot, opt->window_screenshot, opt->record}) {
       CheckOutsideInputs(opt->workspace, out);
     }
-    return viewer::RunViewer(*opt);
+    return RunNamingFlags({{"series", "--series"}}, [&] { return viewer::RunViewer(*opt); });
   };
 }
 

@@ -295,7 +295,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
     spdlog::info("CPU multi-view stereo: {} depth maps, {} fused points", dense.num_depth_maps,
                  dense.cloud.size());
   } else if (mode == "colmap") {
-    if (!ctx.caps.has_cuda) throw UsageError("--dense colmap needs a COLMAP built with CUDA");
+    if (!ctx.caps.has_cuda) throw OptionError("dense", "colmap needs a COLMAP built with CUDA");
     const long n = static_cast<long>(model.images.size());
     std::vector<std::string> args = {"patch_match_stereo", "--workspace_path",
                                      ctx.opt.workspace.string(), "--workspace_format", "COLMAP"};
@@ -329,7 +329,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
                                                : Eigen::Vector3f::Zero());
     }
   } else {
-    throw UsageError("unknown --dense mode '" + mode + "' (auto, cpu, colmap, none)");
+    throw OptionError("dense", "must be auto, cpu, colmap or none, got '" + mode + "'");
   }
   report.times.push_back({"dense." + mode, Seconds(t0)});
   if (dense.cloud.size() < 16) {
@@ -388,6 +388,20 @@ void CheckOptions(const ReconstructOptions& opt) {
   if (d.num_depths < 2) throw OptionError("dense_options.num_depths", "must be >= 2");
   if (d.num_neighbors < 1) throw OptionError("dense_options.num_neighbors", "must be >= 1");
   if (opt.threads < 0) throw OptionError("threads", "must be >= 0 (0 = all cores)");
+  const auto one_of = [](const std::string& value, std::initializer_list<const char*> names) {
+    return std::any_of(names.begin(), names.end(), [&](const char* n) { return value == n; });
+  };
+  if (!one_of(opt.dense, {"auto", "cpu", "colmap", "none"})) {
+    throw OptionError("dense", "must be auto, cpu, colmap or none, got '" + opt.dense + "'");
+  }
+  if (!one_of(opt.matching, {"auto", "exhaustive", "sequential", "pairs", "vocab_tree"})) {
+    throw OptionError(
+        "matching",
+        "must be auto, exhaustive, sequential, pairs or vocab_tree, got '" + opt.matching + "'");
+  }
+  if (opt.matching == "vocab_tree" && opt.vocab_tree.empty()) {
+    throw OptionError("vocab_tree", "is needed by vocab_tree matching");
+  }
 }
 
 }  // namespace
@@ -404,8 +418,8 @@ ReconstructReport Reconstruct(const ReconstructOptions& opt) {
   const auto exe = FindExecutable(opt.colmap);
   if (!exe) {
     throw InputError(opt.colmap,
-                     "COLMAP executable not found in PATH (install colmap or pass "
-                     "--colmap PATH)");
+                     "COLMAP executable not found in PATH (install colmap or name the "
+                     "executable)");
   }
   ctx.colmap = *exe;
   ctx.caps = ProbeColmap(ctx.colmap);

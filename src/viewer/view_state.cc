@@ -110,8 +110,8 @@ ViewState InitialViewState(const ViewerOptions& options, const Scene& scene) {
   s.source = ResolveHdrSource(options.source, options.workspace);
   s.series = options.series;
   if (options.series >= static_cast<int>(scene.series.size())) {
-    throw UsageError("--series " + std::to_string(options.series) + ": the workspace has " +
-                     std::to_string(scene.series.size()) + " series");
+    throw OptionError("series", std::to_string(options.series) + ": the workspace has " +
+                                    std::to_string(scene.series.size()) + " series");
   }
   s.depth_mode = options.renderer.depth.mode;
   s.weights = options.renderer.blend.weights;

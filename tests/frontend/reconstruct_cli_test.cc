@@ -56,11 +56,12 @@ TEST(ReconstructCli, MissingColmapIsOneClearError) {
 }
 
 TEST(ReconstructCli, BadOptionsAreRefusedBeforeAnyWork) {
-  // Refused up front (COLMAP used to fail minutes later, leaving a half-made workspace).
+  // Refused up front, before COLMAP runs or a workspace is made.
   const fs::path dir = test::TempDir("rec_badopt");
   fs::create_directories(dir / "photos");
-  for (const std::string bad : {"--max-features 0", "--dense-size -1", "--image-size 0",
-                                "--threads -1", "--dense-depths 1"}) {
+  for (const std::string bad :
+       {"--max-features 0", "--dense-size -1", "--image-size 0", "--threads -1", "--dense-depths 1",
+        "--dense foo", "--matching foo"}) {
     const auto r = test::RunCommand(Exe() + " -q reconstruct " + (dir / "photos").string() + " " +
                                     (dir / "ws").string() + " " + bad);
     EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
@@ -68,6 +69,11 @@ TEST(ReconstructCli, BadOptionsAreRefusedBeforeAnyWork) {
     EXPECT_EQ(CountLines(r.output), 1) << r.output;
     EXPECT_FALSE(fs::exists(dir / "ws")) << bad;
   }
+  const auto r = test::RunCommand(Exe() + " -q reconstruct " + (dir / "photos").string() + " " +
+                                  (dir / "ws").string() + " --matching vocab_tree");
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("--vocab-tree is needed"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "ws"));
 }
 
 std::map<std::string, Eigen::Vector3d> Centers(const ColmapModel& m) {
