@@ -11,6 +11,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -30,8 +31,7 @@ struct DepthOptions {
   std::string workspace;
   std::string photo;
   std::string camera_file;
-  std::string mode = "lechelek";
-  std::string raster = "compute";
+  render::DepthPassOptions pass;  // mode and raster
   std::string size;
   std::string out;
 };
@@ -51,10 +51,10 @@ cv::Mat DepthFalseColour(const cv::Mat& depth) {
 }
 
 int Run(const DepthOptions& opt) {
-  const render::DepthMode mode = render::ParseDepthMode(opt.mode);
-  const render::PointRaster raster = render::ParsePointRaster(opt.raster);
+  const render::DepthMode mode = opt.pass.mode;
   const std::filesystem::path out = opt.out;
   if (out.extension() != ".exr") throw UsageError("--out must end in .exr, got " + opt.out);
+  CheckOutsideInputs(opt.workspace, out);
   const Scene scene = LoadWorkspace(opt.workspace);
   Camera camera;
   Rigid3d cam_from_world;
@@ -77,10 +77,7 @@ int Run(const DepthOptions& opt) {
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
-  render::DepthPassOptions pass_options;
-  pass_options.mode = mode;
-  pass_options.raster = raster;
-  render::DepthPass pass(shaders, pass_options);
+  render::DepthPass pass(shaders, opt.pass);
   pass.SetPoints(scene.points);
   render::DepthTarget target = render::DepthTarget::Create(size.width, size.height);
   pass.Process(camera, cam_from_world, target);
@@ -119,13 +116,8 @@ CommandRunner SetupDepth(CLI::App& sub) {
   auto* camera =
       sub.add_option("--camera", opt->camera_file, "Camera file (JSON, docs/formats.md)");
   photo->excludes(camera);
-  sub.add_option("--raster", opt->raster,
-                 "How points are rasterised: compute (shaders with atomics) or pipeline "
-                 "(GL_POINTS sprites)")
-      ->capture_default_str();
-  sub.add_option("--mode", opt->mode, "plain, marroquim or lechelek")
-      ->default_val("lechelek")
-      ->check(CLI::IsMember({"plain", "marroquim", "lechelek"}));
+  AddPointRasterOption(sub, opt->pass.raster);
+  AddDepthModeOption(sub, opt->pass.mode, "--mode");
   sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)");
   sub.add_option("--out", opt->out, "Output depth EXR (camera z, channel Z, 0 = invalid)")
       ->required();

@@ -103,6 +103,8 @@ void ReportTruth(const render::HdrPhotoSet& set, const fs::path& capture) {
 
 int Run(const HdrOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
+  if (!(opt.lambda > 0) || opt.samples < 1) throw UsageError("--lambda and --samples must be > 0");
+  CheckOutsideInputs(opt.workspace, opt.out);
   const Scene scene = LoadWorkspace(opt.workspace);
   render::HdrPhotoSetOptions options;
   if (!opt.reference_series.empty()) {
@@ -114,7 +116,6 @@ int Run(const HdrOptions& opt) {
     for (int i = 0; i < path.FrameCount(); ++i) options.views.push_back(path.Frame(i));
   }
   if (!opt.response.empty()) options.response_file = fs::path(opt.response);
-  if (!(opt.lambda > 0) || opt.samples < 1) throw UsageError("--lambda and --samples must be > 0");
   options.calibration.lambda = opt.lambda;
   options.calibration.samples = opt.samples;
   if (opt.plain_debevec) options.calibration = PlainDebevec(options.calibration);

@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every other parse error is bad usage, like UsageError.
+    return app.exit(e) == 0 ? 0 : 64;
   }
   // Log lines go to stderr: stdout carries the data of the commands that print it (JSON).
   spdlog::set_default_logger(spdlog::stderr_color_mt("hdribr"));

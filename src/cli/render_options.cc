@@ -7,12 +7,21 @@
 
 namespace hdribr::cli {
 
-CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode) {
-  return app
-      .add_option("--depth-mode", mode, "Depth pass: plain, marroquim or lechelek (the paper)")
+CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode, const std::string& flag) {
+  return app.add_option(flag, mode, "Depth pass: plain, marroquim or lechelek (the paper)")
       ->transform(
           NamesTo(NameMap<render::DepthMode>(render::AllDepthModes(), render::DepthModeName)))
       ->default_str(render::DepthModeName(mode));
+}
+
+CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster) {
+  return app
+      .add_option("--raster", raster,
+                  "How points are rasterised: compute (shaders with atomics) or pipeline "
+                  "(GL_POINTS sprites)")
+      ->transform(
+          NamesTo(NameMap<render::PointRaster>(render::kAllPointRasters, render::PointRasterName)))
+      ->default_str(render::PointRasterName(raster));
 }
 
 void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {

@@ -15,8 +15,11 @@
 
 namespace hdribr::cli {
 
-// --depth-mode NAME into `mode` (names from render::DepthModeName).
-CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode);
+// --depth-mode NAME (or `flag`) into `mode` (names from render::DepthModeName).
+CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode,
+                                const std::string& flag = "--depth-mode");
+// --raster NAME into `raster` (names from render::PointRasterName).
+CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster);
 // --weights, --k-best, --lambda, --tolerance into `blend`; CheckBlendOptions validates them.
 void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
 // --max-photo-size PX into `max_photo_size` (0 = full size).

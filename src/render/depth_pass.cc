@@ -38,7 +38,7 @@ std::string PointRasterName(PointRaster raster) {
 }
 
 PointRaster ParsePointRaster(const std::string& name) {
-  for (PointRaster r : {PointRaster::kCompute, PointRaster::kPipeline}) {
+  for (PointRaster r : kAllPointRasters) {
     if (PointRasterName(r) == name) return r;
   }
   throw UsageError("unknown point raster '" + name + "' (compute, pipeline)");

@@ -41,6 +41,9 @@ enum class PointRaster {
   kPipeline,  // GL_POINTS sprites through the graphics pipeline and its depth test
 };
 
+// Every PointRaster value, in declaration order.
+inline constexpr PointRaster kAllPointRasters[] = {PointRaster::kCompute, PointRaster::kPipeline};
+
 // "compute", "pipeline"; ParsePointRaster throws UsageError for anything else.
 std::string PointRasterName(PointRaster raster);
 PointRaster ParsePointRaster(const std::string& name);

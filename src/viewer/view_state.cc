@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "render/hdr_photo_set.h"
-#include "viewer/app.h"
+#include "viewer/viewer_options.h"
 
 namespace hdribr::viewer {
 namespace {

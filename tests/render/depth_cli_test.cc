@@ -93,7 +93,9 @@ TEST_F(DepthCliTest, BadInputIsOneClearErrorAndNoOutput) {
   EXPECT_EQ(r.exit_code, 64) << r.output;
   r = test::RunCommand(Exe() + " depth " + ws + " --photo s0_v00.jpg --raster gpu --out " + out);
   EXPECT_EQ(r.exit_code, 64) << r.output;
-  EXPECT_NE(r.output.find("unknown point raster 'gpu'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--raster: must be one of compute, pipeline, got 'gpu'"),
+            std::string::npos)
+      << r.output;
   std::ofstream(tmp / "bad.json") << "{\"width\": 3}";
   r = test::RunCommand(Exe() + " depth " + ws + " --camera " + (tmp / "bad.json").string() +
                        " --out " + out);

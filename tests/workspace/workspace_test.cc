@@ -39,6 +39,30 @@ TEST(Workspace, LoadsFixture) {
   EXPECT_TRUE(ValidateScene(scene).empty());
 }
 
+// Outputs inside the photo or model folder are refused (the next load would read them); the
+// workspace root and folders beside it are fine, whatever the spelling of the path.
+TEST(Workspace, OutputsInsideInputFoldersAreRefused) {
+  const fs::path dir = test::TempDir();
+  test::MakeWorkspace(dir);
+  const WorkspaceLayout layout = DetectWorkspace(dir);
+  for (const fs::path& out :
+       {layout.images_dir / "new.png", layout.images_dir, layout.images_dir / "sub" / "a.exr",
+        dir / "sparse" / ".." / "images" / "x.png", layout.sparse_dir / "frames"}) {
+    EXPECT_THROW(CheckOutsideInputs(dir, out), UsageError) << out;
+  }
+  for (const fs::path& out : {dir / "view.png", dir / "hdr", dir / "images_out" / "a.png",
+                              dir.parent_path() / "elsewhere.png", fs::path()}) {
+    EXPECT_NO_THROW(CheckOutsideInputs(dir, out)) << out;
+  }
+  try {
+    CheckOutsideInputs(dir, layout.images_dir / "new.png");
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("new.png: inside the workspace's input folder"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Workspace, GroupsFromExifWithoutSeriesJson) {
   const fs::path dir = test::TempDir();
   test::FixtureOptions opt;
