@@ -187,17 +187,15 @@ void FrameRenderer::ToneMap(const ViewState& state) {
       break;
     }
     case DisplayMode::kDepth:
-      false_colour_.Apply(FalseColourMap::kDepth, target_, photos, display_);
-      stats_.tonemap_gpu_ms = 0;
-      break;
     case DisplayMode::kNormals:
-      false_colour_.Apply(FalseColourMap::kNormals, target_, photos, display_);
+    case DisplayMode::kCount: {
+      const FalseColourMap map = state.display == DisplayMode::kDepth     ? FalseColourMap::kDepth
+                                 : state.display == DisplayMode::kNormals ? FalseColourMap::kNormals
+                                                                          : FalseColourMap::kCount;
+      false_colour_.Apply(map, target_, photos, display_);
       stats_.tonemap_gpu_ms = 0;
       break;
-    case DisplayMode::kCount:
-      false_colour_.Apply(FalseColourMap::kCount, target_, photos, display_);
-      stats_.tonemap_gpu_ms = 0;
-      break;
+    }
     case DisplayMode::kClasses:
       if (target_.depth.classes.empty()) {  // a depth pass without classes: nothing to show
         glClearTexImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);

@@ -1,12 +1,12 @@
 // The one conversion point between Eigen (core data: poses, cameras, projection) and GLM (the
 // viewer's navigation and GL-facing math). Every conversion copies elements of the same
-// scalar type, so round trips are exact; matrices are copied by (row, column), so neither
-// side's storage order matters.
+// scalar type, so round trips are exact.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
@@ -31,38 +31,15 @@ inline Eigen::Quaterniond ToEigen(const glm::dquat& q) {
   return Eigen::Quaterniond(q.w, q.x, q.y, q.z);
 }
 
-// Eigen::Matrix4d -> glm::dmat4 (GLM indexes [column][row]).
-inline glm::dmat4 ToGlm(const Eigen::Matrix4d& m) {
-  glm::dmat4 out;
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) out[c][r] = m(r, c);
-  }
-  return out;
-}
-// glm::dmat4 -> Eigen::Matrix4d.
+// 4x4 matrices, Eigen <-> GLM: both store columns first (Eigen's default), so the elements are
+// copied in storage order by GLM's make_mat4 and Eigen's Map.
+inline glm::dmat4 ToGlm(const Eigen::Matrix4d& m) { return glm::make_mat4(m.data()); }
+inline glm::mat4 ToGlm(const Eigen::Matrix4f& m) { return glm::make_mat4(m.data()); }
 inline Eigen::Matrix4d ToEigen(const glm::dmat4& m) {
-  Eigen::Matrix4d out;
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) out(r, c) = m[c][r];
-  }
-  return out;
+  return Eigen::Map<const Eigen::Matrix4d>(glm::value_ptr(m));
 }
-
-// Eigen::Matrix4f -> glm::mat4 (e.g. ClipFromCam for glProgramUniformMatrix4fv).
-inline glm::mat4 ToGlm(const Eigen::Matrix4f& m) {
-  glm::mat4 out;
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) out[c][r] = m(r, c);
-  }
-  return out;
-}
-// glm::mat4 -> Eigen::Matrix4f.
 inline Eigen::Matrix4f ToEigen(const glm::mat4& m) {
-  Eigen::Matrix4f out;
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) out(r, c) = m[c][r];
-  }
-  return out;
+  return Eigen::Map<const Eigen::Matrix4f>(glm::value_ptr(m));
 }
 
 // A rigid pose as GL sees it: the homogeneous 4x4 matrix, equal to Rigid3d::Matrix4().

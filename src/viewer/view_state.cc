@@ -8,7 +8,7 @@ namespace hdribr::viewer {
 namespace {
 
 struct DisplayModeInfo {
-  DisplayMode mode;
+  DisplayMode value;
   const char* name;   // --display
   const char* label;  // panel combo
 };
@@ -23,7 +23,7 @@ constexpr DisplayModeInfo kDisplayModes[kDisplayModeCount] = {
 };
 
 struct HdrSourceInfo {
-  HdrSource source;
+  HdrSource value;
   const char* name;   // --hdr
   const char* label;  // panel combo
 };
@@ -47,23 +47,23 @@ std::string ComboItems(const Table& table) {
   return items;
 }
 
+// (name, value) pairs of a table, in its order.
+template <typename Table>
+auto NameList(const Table& table) {
+  std::vector<std::pair<std::string, decltype(table[0].value)>> names;
+  for (const auto& entry : table) names.emplace_back(entry.name, entry.value);
+  return names;
+}
+
 }  // namespace
 
 const std::vector<std::pair<std::string, DisplayMode>>& DisplayModeNames() {
-  static const auto* names = [] {
-    auto* v = new std::vector<std::pair<std::string, DisplayMode>>;
-    for (const DisplayModeInfo& d : kDisplayModes) v->emplace_back(d.name, d.mode);
-    return v;
-  }();
+  static const auto* names = new auto(NameList(kDisplayModes));
   return *names;
 }
 
 const std::vector<std::pair<std::string, HdrSource>>& HdrSourceNames() {
-  static const auto* names = [] {
-    auto* v = new std::vector<std::pair<std::string, HdrSource>>;
-    for (const HdrSourceInfo& s : kHdrSources) v->emplace_back(s.name, s.source);
-    return v;
-  }();
+  static const auto* names = new auto(NameList(kHdrSources));
   return *names;
 }
 
