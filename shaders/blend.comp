@@ -4,7 +4,10 @@
 // see it with weight max(0, V . V_k) / (delta_k + 1) (eq. 5), where delta_k (eq. 4) is the
 // difference of the distances |C - P| and |C_k - P| in units of the scene scale. A photo sees
 // P when P projects inside it, passes the shadow-map test against the photo's own depth map
-// and N_p . V_k > lambda (sec. 4, "Occlusion and visibility"). Docs: docs/algorithms.md.
+// and N_p . V_k > lambda (sec. 4, "Occlusion and visibility"). Beyond the paper, pixels
+// without depth can show a background (u_background): a sphere around the scene or a surface
+// at infinity, seen by the photos whose depth maps hold no point there either. Docs:
+// docs/algorithms.md.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // One per scene photo (std430, matches PhotoGpu in blend_pass.cc).
@@ -40,54 +43,121 @@ layout(location = 8) uniform int u_debug_photo;
 layout(location = 9) uniform int u_encoding;  // 0 display, 1 radiance
 layout(location = 10) uniform int u_nearest;  // 1: projective texturing, weight 1
 layout(location = 11) uniform int u_weights;  // 0 paper eq. 5, 1 Unstructured Lumigraph
+// Pixels without depth: 0 left empty, 1 at infinity, 2 on the sphere u_sphere
+// (render::Background).
+layout(location = 12) uniform int u_background;
+layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (world), radius
 
 #ifndef MAX_K
 #define MAX_K 32
 #endif
 
 const float kHalfPi = 1.5707963;
+const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
 
-// Geometric weight of photo i for the point P (0 when photo i does not see it); uvl receives
-// the texture coordinate and the level of detail of P in the photo, penalty the Unstructured
-// Lumigraph penalty angle(V, V_k) (radians) + delta_k.
-float PhotoWeight(int i, vec3 P, vec3 N, vec3 V, float dist_c, float z_new, out vec3 uvl,
-                  out float penalty) {
-  uvl = vec3(0.0);
-  penalty = 0.0;
-  vec3 pk = (photos[i].cam_from_world * vec4(P, 1.0)).xyz;
-  if (pk.z <= 0.0) return 0.0;
+// What a pixel shows: a surface point P with normal N (world), or, at infinity, the world
+// direction d (stored in P) of the pixel's ray.
+struct Sample {
+  vec3 P;
+  vec3 N;
+  vec3 V;        // unit vector from the point towards the view's centre C (-d at infinity)
+  float dist_c;  // |C - P|; 0 at infinity
+  float z_new;   // camera z of P in the view; 0 at infinity
+  bool background;   // no point: on the background sphere or at infinity
+  bool at_infinity;  // P holds a direction
+};
+
+// Camera z of the background sphere (centre u_sphere.xyz, radius u_sphere.w, around every
+// camera) along the world ray C + u d (d with camera z 1); 0 when the ray does not leave it.
+float SphereDepth(vec3 C, vec3 d) {
+  vec3 o = C - u_sphere.xyz;
+  float a = dot(d, d);
+  float b = dot(o, d);
+  float c = dot(o, o) - u_sphere.w * u_sphere.w;
+  float disc = b * b - a * c;
+  if (disc < 0.0) return 0.0;
+  return max((-b + sqrt(disc)) / a, 0.0);
+}
+
+// Where a sample projects in photo i, in the photo's camera pixels; false when it is behind
+// the photo or outside its frame. pk receives the point (or direction) in photo i's camera.
+bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
+  pk = s.at_infinity ? mat3(photos[i].cam_from_world) * s.P
+                     : (photos[i].cam_from_world * vec4(s.P, 1.0)).xyz;
+  px = vec2(0.0);
+  if (pk.z <= 0.0) return false;
   vec4 intr = photos[i].intrinsics;
-  vec2 px = intr.xy * pk.xy / pk.z + intr.zw;
-  vec2 size = photos[i].size.xy;
-  if (any(lessThan(px, vec2(0.0))) || any(greaterThanEqual(px, size))) return 0.0;
-  // Shadow-map test: consistent with one of the 2x2 depth-map texels around the projection
-  // (a single texel rejects half the pixels along the photo's silhouettes).
+  px = intr.xy * pk.xy / pk.z + intr.zw;
+  return all(greaterThanEqual(px, vec2(0.0))) && all(lessThan(px, photos[i].size.xy));
+}
+
+// Shadow-map test against photo i's depth map around px, on the 2x2 texels about the
+// projection (a single texel rejects half the pixels along the photo's silhouettes): a point
+// passes when it agrees with one of them, a background sample (which lies beyond every point)
+// when one of them holds no point.
+bool VisibleIn(int i, Sample s, vec2 px, float z_k) {
   vec4 dmap = photos[i].dmap;
   ivec2 d0 = ivec2(floor(px * dmap.xy - 0.5));
   ivec2 dmax = ivec2(dmap.zw) - 1;
-  bool visible = false;
+  bool any_agrees = false;
+  bool any_empty = false;
   for (int dy = 0; dy <= 1; ++dy) {
     for (int dx = 0; dx <= 1; ++dx) {
       ivec2 t = clamp(d0 + ivec2(dx, dy), ivec2(0), dmax);
       float dk = texelFetch(u_photo_depth, ivec3(t, i), 0).r;
-      if (dk > 0.0 && abs(pk.z - dk) <= u_tolerance * dk) visible = true;
+      if (dk <= 0.0) any_empty = true;
+      if (dk > 0.0 && abs(z_k - dk) <= u_tolerance * dk) any_agrees = true;
     }
   }
-  if (!visible) return 0.0;
-  vec3 vk = photos[i].center.xyz - P;
-  float dist_k = length(vk);
-  vk /= dist_k;
-  if (dot(N, vk) <= u_lambda) return 0.0;  // grazing or back-facing (paper: N_p . V_k > lambda)
-  float w = 1.0;
+  return s.background ? any_empty : any_agrees;
+}
+
+// Geometric weight of photo i for the sample (0 when photo i does not see it); uvl receives
+// the texture coordinate and the level of detail in the photo, feather a factor in (0, 1] of
+// the final weight (for the background: falling to 0 at the photo's frame, so that no seam
+// shows where a photo's frame crosses the sky; 1 for points), penalty the Unstructured
+// Lumigraph penalty angle(V, V_k) (radians) + delta_k. At infinity V_k = V (angle 0, cos 1),
+// and delta_k is the distance |C_k - C| between the centres: what lies beyond the points is
+// far but not infinitely far, and its parallax grows with that distance (the limit of eq. 4,
+// (C_k - C) . d, would ignore sideways offsets).
+float Weight(int i, Sample s, out vec3 uvl, out float feather, out float penalty) {
+  uvl = vec3(0.0);
+  feather = 1.0;
+  penalty = 0.0;
+  vec2 px;
+  vec3 pk;
+  if (!ProjectInto(i, s, px, pk) || !VisibleIn(i, s, px, pk.z)) return 0.0;
+  float cos_k = 1.0;
+  float delta = 0.0;
+  float footprint;  // photo texels per target pixel
+  vec4 intr = photos[i].intrinsics;
+  if (s.at_infinity) {
+    delta = length(photos[i].center.xyz - u_world_from_cam[3].xyz) * u_inv_scene_scale;
+    // Angular size of a pixel: 1 / f_new in the view, 1 / f_i in the photo.
+    footprint = intr.x / u_intrinsics.x * photos[i].size.z;
+  } else {
+    vec3 vk = photos[i].center.xyz - s.P;
+    float dist_k = length(vk);
+    vk /= dist_k;
+    // Grazing or back-facing (paper: N_p . V_k > lambda).
+    if (dot(s.N, vk) <= u_lambda) return 0.0;
+    cos_k = max(0.0, dot(s.V, vk));                        // eq. 2
+    delta = abs(s.dist_c - dist_k) * u_inv_scene_scale;  // eq. 4, scene-scale units
+    // A target pixel covers z_new / f_new world units at P, which photo i sees over that
+    // times f_i / z_i camera pixels, times its texels per camera pixel.
+    footprint = s.z_new / u_intrinsics.x * intr.x / pk.z * photos[i].size.z;
+  }
+  if (s.background) {
+    vec2 size = photos[i].size.xy;
+    vec2 border = min(px, size - px);
+    feather = max(clamp(min(border.x, border.y) / (kFeather * max(size.x, size.y)), 0.0, 1.0),
+                  1e-3);
+  }
+  float w = feather;
   if (u_nearest == 0) {
-    float cos_k = max(0.0, dot(V, vk));                      // eq. 2
-    float delta = abs(dist_c - dist_k) * u_inv_scene_scale;  // eq. 4, scene-scale units
-    w = cos_k / (delta + 1.0);                               // eq. 5
+    w = feather * cos_k / (delta + 1.0);  // eq. 5
     penalty = acos(min(cos_k, 1.0)) + delta;
   }
-  // Level of detail: a target pixel covers z_new / f_new world units at P, which photo i sees
-  // over that times f_i / z_i camera pixels, times its texels per camera pixel.
-  float footprint = z_new / u_intrinsics.x * intr.x / pk.z * photos[i].size.z;
   vec4 tex = photos[i].tex;
   uvl = vec3(clamp(px * tex.xy, vec2(0.0), tex.zw), log2(max(footprint, 1e-6)));
   return w;
@@ -117,15 +187,27 @@ void main() {
   vec4 color = vec4(0.0);
   vec4 aux = vec4(0.0);
   float z = texelFetch(u_depth, p, 0).r;
-  if (z > 0.0) {
-    vec2 px = vec2(p) + 0.5;
-    vec3 pc = vec3((px - u_intrinsics.zw) / u_intrinsics.xy, 1.0) * z;
-    vec3 P = (u_world_from_cam * vec4(pc, 1.0)).xyz;
-    vec3 C = u_world_from_cam[3].xyz;
-    float dist_c = length(C - P);
-    vec3 V = (C - P) / dist_c;
-    vec3 n = texelFetch(u_normal, p, 0).xyz;
-    vec3 N = dot(n, n) > 1e-8 ? normalize(mat3(u_world_from_cam) * n) : V;
+  vec3 ray = vec3((vec2(p) + 0.5 - u_intrinsics.zw) / u_intrinsics.xy, 1.0);
+  vec3 C = u_world_from_cam[3].xyz;
+  Sample s;
+  s.background = z <= 0.0;
+  s.at_infinity = s.background && u_background == 1;
+  if (s.background && u_background == 2) z = SphereDepth(C, mat3(u_world_from_cam) * ray);
+  if (z > 0.0 || s.at_infinity) {
+    if (s.at_infinity) {
+      s.P = normalize(mat3(u_world_from_cam) * ray);
+      s.V = -s.P;
+      s.N = s.V;
+      s.dist_c = 0.0;
+      s.z_new = 0.0;
+    } else {
+      s.P = (u_world_from_cam * vec4(ray * z, 1.0)).xyz;
+      s.dist_c = length(C - s.P);
+      s.V = (C - s.P) / s.dist_c;
+      vec3 n = s.background ? vec3(0.0) : texelFetch(u_normal, p, 0).xyz;
+      s.N = dot(n, n) > 1e-8 ? normalize(mat3(u_world_from_cam) * n) : s.V;
+      s.z_new = z;
+    }
     vec3 sum = vec3(0.0);
     vec3 wsum = vec3(0.0);
     float geo_sum = 0.0;
@@ -138,14 +220,16 @@ void main() {
     int keep = ulr ? k + 1 : k;
     float best_key[MAX_K + 1];
     float best_w[MAX_K + 1];
+    float best_f[MAX_K + 1];
     int best_i[MAX_K + 1];
     vec3 best_uvl[MAX_K + 1];
     int n_best = 0;
     for (int a = 0; a < u_active_count; ++a) {
       int i = active_photos[a];
       vec3 uvl;
+      float feather;
       float penalty;
-      float w = PhotoWeight(i, P, N, V, dist_c, z, uvl, penalty);
+      float w = Weight(i, s, uvl, feather, penalty);
       if (w <= 0.0) continue;
       if (u_k_best <= 0 && !ulr) {  // all photos: accumulate directly
         vec3 hat;
@@ -163,12 +247,14 @@ void main() {
       while (j > 0 && best_key[j - 1] < key) {
         best_key[j] = best_key[j - 1];
         best_w[j] = best_w[j - 1];
+        best_f[j] = best_f[j - 1];
         best_i[j] = best_i[j - 1];
         best_uvl[j] = best_uvl[j - 1];
         --j;
       }
       best_key[j] = key;
       best_w[j] = w;
+      best_f[j] = feather;
       best_i[j] = i;
       best_uvl[j] = uvl;
       n_best = min(n_best + 1, keep);
@@ -180,7 +266,7 @@ void main() {
       n_best = min(n_best, k);
       for (int j = 0; j < n_best; ++j) {
         float p = -best_key[j];
-        best_w[j] = max(0.0, 1.0 - p / t) / max(p, 1e-4);
+        best_w[j] = best_f[j] * max(0.0, 1.0 - p / t) / max(p, 1e-4);
       }
       if (best_w[0] <= 0.0) best_w[0] = 1.0;  // every penalty beyond the horizon: the best
     }

@@ -39,6 +39,17 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
   app.add_option("--tolerance", blend.occlusion_tolerance,
                  "Occlusion test: relative depth tolerance, in (0, 1)")
       ->capture_default_str();
+  AddBackgroundOption(app, blend.background);
+}
+
+CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background) {
+  return app
+      .add_option("--background", background,
+                  "Where no point is: infinity (the photos' pixels in the ray's direction) or "
+                  "none (left empty)")
+      ->transform(
+          NamesTo(NameMap<render::Background>(render::kAllBackgrounds, render::BackgroundName)))
+      ->default_str(render::BackgroundName(background));
 }
 
 CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size) {

@@ -20,8 +20,11 @@ CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode,
                                 const std::string& flag = "--depth-mode");
 // --raster NAME into `raster` (names from render::PointRasterName).
 CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster);
-// --weights, --k-best, --lambda, --tolerance into `blend`; CheckBlendOptions validates them.
+// --weights, --k-best, --lambda, --tolerance, --background into `blend`; CheckBlendOptions
+// validates them.
 void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
+// --background NAME into `background` (names from render::BackgroundName).
+CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background);
 // --max-photo-size PX into `max_photo_size` (0 = full size).
 CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size);
 // The three above on `options` (depth mode, blend options, photo size).

@@ -236,17 +236,18 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       std::string method;
       cv::Mat color8;
       cv::Mat valid;
+      cv::Mat from_points;  // valid pixels rendered from points, not the background
     };
     std::vector<MethodImage> images;
     renderer.blend_options().mode = mode;
     render::RenderImages r =
         renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
-    images.push_back({"hdribr", ToLdr8(r.color), r.valid});
+    images.push_back({"hdribr", ToLdr8(r.color), r.valid, r.valid & (r.depth > 0)});
     if (options.baselines) {
       renderer.blend_options().mode = render::BlendMode::kNearestPhoto;
       r = renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
       renderer.blend_options().mode = mode;
-      images.push_back({"nearest_photo", ToLdr8(r.color), r.valid});
+      images.push_back({"nearest_photo", ToLdr8(r.color), r.valid, r.valid & (r.depth > 0)});
       if (options.point_colors == "photos") {
         auto& sc = series_colors[v.series];
         if (!sc) {
@@ -257,7 +258,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       }
       const render::PointColorImages p =
           point_pass->Render(v.camera, v.cam_from_world, size.width, size.height);
-      images.push_back({"point_colors", ToLdr8(p.color), p.valid});
+      images.push_back({"point_colors", ToLdr8(p.color), p.valid, p.valid});
     }
 
     std::vector<cv::Mat> masks;
@@ -274,11 +275,17 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       s.method = m.method;
       if (cv::countNonZero(common) > 0) s.scores = CompareImages(reference, m.color8, common);
       s.own_coverage = cv::countNonZero(m.valid) / total;
+      s.point_coverage = cv::countNonZero(m.from_points) / total;
+      // The reference is valid everywhere (a GT view's sky too): every rendered pixel counts.
+      if (cv::countNonZero(m.valid) > 0) {
+        s.own_scores = CompareImages(reference, m.color8, m.valid);
+      }
       vr.methods.push_back(s);
     }
     std::string line = "view " + v.name + ":";
     for (const MethodScores& s : vr.methods) {
-      line += fmt::format("  {} {:.2f} dB", s.method, s.scores.psnr_db);
+      line += fmt::format("  {} {:.2f} dB (own {:.2f} dB, cov. {:.1f}%)", s.method,
+                          s.scores.psnr_db, s.own_scores.psnr_db, 100.0 * s.own_coverage);
     }
     spdlog::info("{} (common {:.1f}%)", line, 100.0 * cv::countNonZero(common) / total);
     report.views.push_back(vr);
@@ -294,12 +301,11 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
         top.push_back(images[k].color8);
         top_captions.push_back(images[k].method +
                                fmt::format(" {:.2f} dB", vr.methods[k].scores.psnr_db));
-        bottom.push_back(ErrorMap(reference, images[k].color8, common));
+        bottom.push_back(ErrorMap(reference, images[k].color8, images[k].valid));
         bottom_captions.push_back("|error| " + images[k].method);
       }
       cv::Mat sheet;
-      cv::vconcat(SideBySide(top, top_captions, common), SideBySide(bottom, bottom_captions),
-                  sheet);
+      cv::vconcat(SideBySide(top, top_captions), SideBySide(bottom, bottom_captions), sheet);
       WriteImage(options.out_dir / "views" / (FileStem(v.name) + ".png"), sheet);
     }
   }

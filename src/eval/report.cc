@@ -25,22 +25,26 @@ nlohmann::json ScoresJson(const MethodScores& m) {
           {"ssim", m.scores.ssim},
           {"coverage", m.scores.coverage},
           {"own_coverage", m.own_coverage},
+          {"point_coverage", m.point_coverage},
+          {"own_psnr_db", m.own_scores.psnr_db},
+          {"own_ssim", m.own_scores.ssim},
           {"pixels", m.scores.pixels}};
 }
 
 std::string CsvRow(const std::string& view, const MethodScores& m) {
   return view + "," + m.method + "," + Num(m.scores.psnr_db, 4) + "," + Num(m.scores.ssim, 5) +
          "," + Num(m.scores.coverage, 5) + "," + Num(m.own_coverage, 5) + "," +
-         std::to_string(m.scores.pixels) + "\n";
+         Num(m.point_coverage, 5) + "," + Num(m.own_scores.psnr_db, 4) + "," +
+         Num(m.own_scores.ssim, 5) + "," + std::to_string(m.scores.pixels) + "\n";
 }
 
 }  // namespace
 
 std::vector<MethodScores> MeanScores(const EvalReport& report) {
   struct Acc {
-    double psnr = 0, ssim = 0, coverage = 0, own = 0;
+    double psnr = 0, ssim = 0, coverage = 0, own = 0, points = 0, own_psnr = 0, own_ssim = 0;
     long long pixels = 0;
-    int scored = 0, views = 0;
+    int scored = 0, own_scored = 0, views = 0;
   };
   std::vector<std::string> order;
   std::map<std::string, Acc> acc;
@@ -51,7 +55,13 @@ std::vector<MethodScores> MeanScores(const EvalReport& report) {
       ++a.views;
       a.coverage += m.scores.coverage;
       a.own += m.own_coverage;
+      a.points += m.point_coverage;
       a.pixels += m.scores.pixels;
+      if (m.own_scores.pixels > 0) {
+        ++a.own_scored;
+        a.own_psnr += m.own_scores.psnr_db;
+        a.own_ssim += m.own_scores.ssim;
+      }
       if (m.scores.pixels > 0) {
         ++a.scored;
         a.psnr += m.scores.psnr_db;
@@ -69,13 +79,18 @@ std::vector<MethodScores> MeanScores(const EvalReport& report) {
     m.scores.coverage = a.views ? a.coverage / a.views : 0.0;
     m.scores.pixels = a.pixels;
     m.own_coverage = a.views ? a.own / a.views : 0.0;
+    m.point_coverage = a.views ? a.points / a.views : 0.0;
+    m.own_scores.psnr_db = a.own_scored ? a.own_psnr / a.own_scored : 0.0;
+    m.own_scores.ssim = a.own_scored ? a.own_ssim / a.own_scored : 0.0;
     out.push_back(m);
   }
   return out;
 }
 
 std::string FormatCsv(const EvalReport& report) {
-  std::string s = "view,method,psnr_db,ssim,coverage,own_coverage,pixels\n";
+  std::string s =
+      "view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,own_psnr_db,own_ssim,"
+      "pixels\n";
   for (const ViewReport& v : report.views) {
     for (const MethodScores& m : v.methods) s += CsvRow(v.name, m);
   }
@@ -114,13 +129,14 @@ void WriteReport(const EvalReport& report, const std::filesystem::path& csv_path
 std::string FormatMeanTable(const EvalReport& report) {
   std::ostringstream s;
   char line[160];
-  std::snprintf(line, sizeof(line), "%-16s %9s %8s %9s %9s\n", "method", "PSNR dB", "SSIM",
-                "coverage", "own cov.");
+  std::snprintf(line, sizeof(line), "%-16s %9s %8s %9s %9s %9s %9s %9s\n", "method", "PSNR dB",
+                "SSIM", "coverage", "own cov.", "missing", "pts cov.", "own PSNR");
   s << line;
   for (const MethodScores& m : MeanScores(report)) {
-    std::snprintf(line, sizeof(line), "%-16s %9.2f %8.4f %8.1f%% %8.1f%%\n", m.method.c_str(),
-                  m.scores.psnr_db, m.scores.ssim, 100.0 * m.scores.coverage,
-                  100.0 * m.own_coverage);
+    std::snprintf(line, sizeof(line), "%-16s %9.2f %8.4f %8.1f%% %8.1f%% %8.1f%% %8.1f%% %9.2f\n",
+                  m.method.c_str(), m.scores.psnr_db, m.scores.ssim, 100.0 * m.scores.coverage,
+                  100.0 * m.own_coverage, 100.0 * (1.0 - m.own_coverage), 100.0 * m.point_coverage,
+                  m.own_scores.psnr_db);
     s << line;
   }
   return s.str();

@@ -17,6 +17,25 @@ BlendWeights ParseBlendWeights(const std::string& name) {
   throw UsageError("unknown blending weights '" + name + "' (paper, ulr)");
 }
 
+std::string BackgroundName(Background background) {
+  switch (background) {
+    case Background::kInfinity:
+      return "infinity";
+    case Background::kSphere:
+      return "sphere";
+    case Background::kNone:
+      break;
+  }
+  return "none";
+}
+
+Background ParseBackground(const std::string& name) {
+  for (Background b : kAllBackgrounds) {
+    if (BackgroundName(b) == name) return b;
+  }
+  throw UsageError("unknown background '" + name + "' (none, infinity, sphere)");
+}
+
 std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options) {
   std::vector<BlendOptionProblem> problems;
   if (options.k_best < 0 || options.k_best > kMaxKBest) {

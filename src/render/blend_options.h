@@ -33,6 +33,23 @@ inline constexpr int kDefaultUnstructuredK = 4;
 // Largest K of BlendOptions::k_best handled per pixel (MAX_K in shaders/blend.comp).
 inline constexpr int kMaxKBest = 32;
 
+// What the blend shows where the depth pass found no point (sky, distant ground, gaps).
+// Either surface is seen by a photo where the photo's own depth map has no point either.
+// The values are u_background of shaders/blend.comp.
+enum class Background {
+  kNone = 0,      // nothing: the pixel stays invalid (the paper)
+  kInfinity = 1,  // a surface at infinity: each photo's pixel in the ray's direction
+  kSphere = 2,    // a sphere around the points and the cameras (BackgroundSphere)
+};
+
+// Every Background value, in declaration order.
+inline constexpr Background kAllBackgrounds[] = {Background::kNone, Background::kInfinity,
+                                                 Background::kSphere};
+
+// "none", "infinity", "sphere"; ParseBackground throws UsageError for anything else.
+std::string BackgroundName(Background background);
+Background ParseBackground(const std::string& name);
+
 // How photo pixels are turned into the blended value.
 enum class PhotoEncoding {
   kDisplay,   // the photo's stored values (8-bit / 255, or float for an HDR photo set)
@@ -50,6 +67,7 @@ struct BlendOptions {
   float lambda = 1e-4f;  // a photo counts when N_p . V_k > lambda (paper eq. 3)
   float occlusion_tolerance = 0.01f;  // |z_k(P) - depth_k| <= tolerance * depth_k passes
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
+  Background background = Background::kSphere;
 };
 
 // One BlendOptions field that no blend can use.

@@ -21,6 +21,24 @@ static_assert(sizeof(PhotoGpu) == 36 * 4);
 
 }  // namespace
 
+Eigen::Vector4d BackgroundSphere(const Scene& scene) {
+  std::vector<double> d;
+  d.reserve(scene.points.size());
+  for (const auto& p : scene.points.positions)
+    d.push_back((p.cast<double>() - scene.centroid).norm());
+  double radius = 0.0;
+  if (!d.empty()) {
+    const auto at = d.begin() + static_cast<std::ptrdiff_t>((d.size() - 1) * 99 / 100);
+    std::nth_element(d.begin(), at, d.end());
+    radius = *at;
+  }
+  for (const Photo& photo : scene.photos) {
+    radius = std::max(radius, 1.25 * (photo.Center() - scene.centroid).norm());
+  }
+  if (!(radius > 0.0)) radius = scene.scene_scale;
+  return {scene.centroid.x(), scene.centroid.y(), scene.centroid.z(), radius};
+}
+
 BlendPass::BlendPass(const gl::ShaderLibrary& shaders)
     : program_(shaders.Build({"blend.comp"}, {{"MAX_K", std::to_string(kMaxKBest)}})) {}
 
@@ -63,6 +81,8 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
   depth_maps_ = depth_maps.depth().id();
   photo_count_ = static_cast<int>(scene.photos.size());
   inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
+  const Eigen::Vector4d sphere = BackgroundSphere(scene);
+  for (int k = 0; k < 4; ++k) sphere_[k] = static_cast<float>(sphere[k]);
   std::vector<int> all(scene.photos.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   SetActive(all);
@@ -114,6 +134,8 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1i(p, 9, options.encoding == PhotoEncoding::kRadiance ? 1 : 0);
   glProgramUniform1i(p, 10, options.mode == BlendMode::kNearestPhoto ? 1 : 0);
   glProgramUniform1i(p, 11, ulr ? 1 : 0);
+  glProgramUniform1i(p, 12, static_cast<int>(options.background));
+  glProgramUniform4fv(p, 13, 1, sphere_);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program_.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());

@@ -2,6 +2,7 @@
 // pixel's surface point, from the new view's depth and the photos' depth maps.
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
 
 #include "core/camera.h"
@@ -15,6 +16,11 @@
 #include "render/photo_textures.h"
 
 namespace hdribr::render {
+
+// The sphere of Background::kSphere (world frame: centre, radius): centred on the points'
+// centroid, its radius the larger of the 99th-percentile distance of the points (the far
+// points themselves win over the sphere where they exist) and 1.25 times the farthest camera's.
+Eigen::Vector4d BackgroundSphere(const Scene& scene);
 
 class BlendPass {
  public:
@@ -45,6 +51,7 @@ class BlendPass {
   int photo_count_ = 0;
   int active_count_ = 0;
   float inv_scene_scale_ = 1.0f;
+  float sphere_[4] = {0, 0, 0, 1};  // BackgroundSphere of the scene
 };
 
 }  // namespace hdribr::render

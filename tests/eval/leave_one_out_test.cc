@@ -50,7 +50,13 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
     for (const MethodScores& m : v.methods) {
       EXPECT_EQ(m.scores.pixels, v.methods[0].scores.pixels);
       EXPECT_GE(m.own_coverage, m.scores.coverage);
+      EXPECT_GE(m.own_coverage, m.point_coverage);
+      EXPECT_NEAR(static_cast<double>(m.own_scores.pixels), m.own_coverage * v.width * v.height,
+                  0.5);
     }
+    // The background adds pixels to hdribr's own; the colour-per-point baseline has none.
+    EXPECT_GT(v.methods[0].own_coverage, v.methods[0].point_coverage);
+    EXPECT_EQ(v.methods[2].own_coverage, v.methods[2].point_coverage);
   }
   const std::vector<MethodScores> mean = MeanScores(report);
   EXPECT_GT(mean[0].scores.psnr_db, mean[2].scores.psnr_db);  // hdribr beats colour per point

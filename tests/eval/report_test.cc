@@ -32,6 +32,10 @@ EvalReport TwoViewReport() {
     a.scores.coverage = 0.5;
     a.scores.pixels = 6;
     a.own_coverage = 0.75;
+    a.point_coverage = 0.625;
+    a.own_scores.psnr_db = 28.0 + v;
+    a.own_scores.ssim = 0.8;
+    a.own_scores.pixels = 9;
     MethodScores b = a;
     b.method = "point_colors";
     b.scores.psnr_db = 20.0;
@@ -56,8 +60,14 @@ TEST(Report, MeansSkipViewsWithoutPixels) {
 TEST(Report, CsvAndJsonHoldEveryRowAndTheMeans) {
   const EvalReport r = TwoViewReport();
   const std::string csv = FormatCsv(r);
-  EXPECT_EQ(csv.rfind("view,method,psnr_db,ssim,coverage,own_coverage,pixels\n", 0), 0u);
-  EXPECT_NE(csv.find("view1,hdribr,32.0000,0.90000,0.50000,0.75000,6\n"), std::string::npos);
+  EXPECT_EQ(csv.rfind("view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,"
+                      "own_psnr_db,own_ssim,pixels\n",
+                      0),
+            0u);
+  EXPECT_NE(csv.find("view1,hdribr,32.0000,0.90000,0.50000,0.75000,0.62500,29.0000,0.80000,6\n"),
+            std::string::npos);
+  EXPECT_NE(csv.find("mean,hdribr,31.0000,0.90000,0.50000,0.75000,0.62500,28.5000,"),
+            std::string::npos);
   EXPECT_NE(csv.find("mean,hdribr,31.0000"), std::string::npos);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4 + 2);
   const nlohmann::json j = nlohmann::json::parse(FormatJson(r));
@@ -66,6 +76,8 @@ TEST(Report, CsvAndJsonHoldEveryRowAndTheMeans) {
   EXPECT_EQ(j["views"][1]["methods"][0]["psnr_db"], 32.0);
   EXPECT_EQ(j["mean"][0]["method"], "hdribr");
   EXPECT_DOUBLE_EQ(j["mean"][0]["psnr_db"].get<double>(), 31.0);
+  EXPECT_DOUBLE_EQ(j["mean"][0]["own_psnr_db"].get<double>(), 28.5);
+  EXPECT_DOUBLE_EQ(j["mean"][0]["point_coverage"].get<double>(), 0.625);
 
   const auto dir = test::TempDir("eval_report");
   WriteReport(r, dir / "e.csv", dir / "e.json");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
@@ -12,6 +13,7 @@
 #include "hdr/response_curve.h"
 #include "io/image.h"
 #include "io/workspace.h"
+#include "render/blend_pass.h"
 #include "render/renderer.h"
 #include "synth/capture.h"
 #include "test_util.h"
@@ -76,8 +78,9 @@ class BlendPassTest : public ::testing::Test {
     return static_cast<double>(cv::countNonZero(im.valid)) / static_cast<double>(im.valid.total());
   }
 
-  // Finite everywhere; invalid pixels exactly 0; count and weight consistent with validity.
-  static void ExpectSane(const RenderImages& im, int active) {
+  // Finite everywhere; invalid pixels exactly 0; count and weight consistent with validity;
+  // without a background, valid pixels have depth.
+  static void ExpectSane(const RenderImages& im, int active, bool background = true) {
     for (int y = 0; y < im.color.rows; ++y) {
       for (int x = 0; x < im.color.cols; ++x) {
         const cv::Vec3f c = im.color.at<cv::Vec3f>(y, x);
@@ -90,7 +93,9 @@ class BlendPassTest : public ::testing::Test {
         ASSERT_LE(n, static_cast<float>(active));
         if (im.valid.at<uint8_t>(y, x)) {
           ASSERT_GE(n, 1.0f);
-          ASSERT_GT(im.depth.at<float>(y, x), 0.0f);
+          if (!background) {
+            ASSERT_GT(im.depth.at<float>(y, x), 0.0f);
+          }
         } else {
           ASSERT_EQ(c, cv::Vec3f(0, 0, 0));
           ASSERT_EQ(n, 0.0f);
@@ -142,8 +147,8 @@ TEST_F(BlendPassTest, DebugMapsAndViewLookingAway) {
   EXPECT_GT(cv::countNonZero(im.weight > 0.01f), 100);  // photo 2 contributes somewhere
   cv::Mat n2;
   cv::multiply(im.normal, im.normal, n2);
-  const cv::Scalar nn = cv::mean(n2, im.valid);
-  EXPECT_NEAR(nn[0] + nn[1] + nn[2], 1.0, 0.05);  // unit normals
+  const cv::Scalar nn = cv::mean(n2, im.valid & (im.depth > 0));  // the background has none
+  EXPECT_NEAR(nn[0] + nn[1] + nn[2], 1.0, 0.05);                  // unit normals
   // Looking away from the scene (turned around at the first photo's centre).
   const Photo& p = scene_.photos[0];
   const Eigen::Vector3d c = p.Center();
@@ -203,6 +208,60 @@ TEST_F(BlendPassTest, KBestAndSubsetSwitching) {
   ExpectSane(nearest, 1);
   std::printf("nearest photo: %.2f dB, coverage %.3f\n", Psnr(nearest, 3), Coverage(nearest));
   EXPECT_GT(Coverage(nearest), 0.5);
+}
+
+// Pixels without a point (the synthetic sky, which depends on the direction only, and the
+// floor beyond the points): left empty by the paper, filled by the background, which never
+// changes a pixel that has a point.
+TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  Renderer r(shaders, scene_);
+  EXPECT_EQ(r.blend_options().background, Background::kSphere);  // the default
+  const int photo = 1;
+  r.SetActivePhotos(SameSeriesExcept(photo));
+  std::map<Background, RenderImages> im;
+  for (Background b : kAllBackgrounds) {
+    r.blend_options().background = b;
+    im[b] = RenderPhotoView(r, photo);
+    ExpectSane(im[b], 5, b != Background::kNone);
+  }
+  const RenderImages& none = im[Background::kNone];
+  const cv::Mat points = none.depth > 0;
+  const cv::Mat no_point = none.depth <= 0;
+  ASSERT_GT(cv::countNonZero(no_point), 500) << "the view shows no sky";
+  EXPECT_EQ(cv::countNonZero(none.valid & no_point), 0);
+  cv::Mat ref;
+  ReadImage(scene_.photos[static_cast<size_t>(photo)].image_path).convertTo(ref, CV_32FC3);
+  // Infinity fills the sky; the sphere also the floor beyond the points, which lies inside it.
+  const std::map<Background, double> min_share = {{Background::kInfinity, 0.25},
+                                                  {Background::kSphere, 0.85}};
+  for (Background b : {Background::kInfinity, Background::kSphere}) {
+    const RenderImages& bg = im[b];
+    EXPECT_EQ(cv::norm(bg.color, none.color, cv::NORM_INF, points), 0.0) << BackgroundName(b);
+    EXPECT_EQ(cv::countNonZero((bg.valid != none.valid) & points), 0);
+    const cv::Mat filled = bg.valid & no_point;
+    const double share = static_cast<double>(cv::countNonZero(filled)) / cv::countNonZero(no_point);
+    cv::Mat diff = bg.color * 255.0 - ref;
+    diff = diff.mul(diff);
+    const cv::Scalar m = cv::mean(diff, filled);
+    const double psnr = 10.0 * std::log10(255.0 * 255.0 / ((m[0] + m[1] + m[2]) / 3));
+    std::printf("background %s: %.1f%% of the pixels without a point filled, %.2f dB there\n",
+                BackgroundName(b).c_str(), 100.0 * share, psnr);
+    EXPECT_GT(share, min_share.at(b)) << BackgroundName(b);
+    EXPECT_GT(psnr, 24.0) << BackgroundName(b);
+  }
+  EXPECT_EQ(ParseBackground("infinity"), Background::kInfinity);
+  EXPECT_THROW(ParseBackground("box"), UsageError);
+  // The sphere lies beyond 99 % of the points and encloses every camera.
+  const Eigen::Vector4d sphere = BackgroundSphere(scene_);
+  int beyond = 0;
+  for (const Eigen::Vector3f& p : scene_.points.positions) {
+    beyond += (p.cast<double>() - sphere.head<3>()).norm() > sphere.w();
+  }
+  EXPECT_LE(beyond, static_cast<int>(scene_.points.size() / 100) + 1);
+  for (const Photo& p : scene_.photos)
+    EXPECT_LT((p.Center() - sphere.head<3>()).norm(), sphere.w());
 }
 
 // One rule for every blend option, whatever the weights, checked before any upload.
