@@ -31,6 +31,7 @@ struct EvalCliOptions {
   bool no_baselines = false;
   std::string point_colors = "photos";
   render::RendererOptions renderer;  // depth mode, blend options, photo size
+  bool no_depth_cache = false;
 };
 
 int Run(const EvalCliOptions& opt) {
@@ -43,6 +44,7 @@ int Run(const EvalCliOptions& opt) {
   options.baselines = !opt.no_baselines;
   options.point_colors = opt.point_colors;
   options.renderer = opt.renderer;
+  options.renderer.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
   CheckBlendOptions(options.renderer.blend);
   if (!(opt.size_scale > 0.0 && opt.size_scale <= 1.0)) {
     throw UsageError("--size-scale must be in (0, 1], got " + std::to_string(opt.size_scale));
@@ -95,7 +97,7 @@ CommandRunner SetupEval(CLI::App& sub) {
                  "Colours of the colour-per-point baseline: photos or cloud")
       ->default_val("photos")
       ->check(CLI::IsMember({"photos", "cloud"}));
-  AddRendererOptions(sub, opt->renderer);
+  AddRendererOptions(sub, opt->renderer, opt->no_depth_cache);
   return [opt, loo, gt] {
     if (loo->count() == 0 && gt->count() == 0) {
       throw UsageError("eval: give --leave-one-out or --gt CAPTURE_DIR");

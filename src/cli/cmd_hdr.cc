@@ -43,6 +43,7 @@ struct HdrOptions {
   bool no_aligned = false;
   int max_photo_size = 0;
   render::Background background = render::BlendOptions{}.background;
+  bool no_depth_cache = false;
   std::string truth;  // a synthetic capture: report errors against its ground truth
 };
 
@@ -125,6 +126,7 @@ int Run(const HdrOptions& opt) {
   options.export_aligned = !opt.no_aligned;
   options.renderer.max_photo_size = opt.max_photo_size;
   options.renderer.blend.background = opt.background;
+  options.renderer.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
   options.progress = [](int i, int n) { spdlog::info("rendered reference view {}/{}", i, n); };
 
   gl::HeadlessContext context;
@@ -174,6 +176,7 @@ CommandRunner SetupHdr(CLI::App& sub) {
   sub.add_flag("--no-aligned", opt->no_aligned, "Do not export the aligned LDR renders");
   AddMaxPhotoSizeOption(sub, opt->max_photo_size);
   AddBackgroundOption(sub, opt->background);
+  AddNoDepthCacheOption(sub, opt->no_depth_cache);
   sub.add_option("--truth", opt->truth,
                  "Synthetic capture folder (hdribr synth): report errors vs "
                  "its ground truth");

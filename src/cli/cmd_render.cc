@@ -44,6 +44,7 @@ struct RenderCliOptions {
   std::string debug;
   std::vector<std::string> exclude;
   render::RendererOptions renderer;  // depth mode, blend options, photo size
+  bool no_depth_cache = false;
   // HDR: render mode and Reinhard tone mapping of the PNG output.
   std::optional<render::HdrMode> hdr_mode;  // unset = LDR rendering
   std::string hdr_set;                      // default WORKSPACE/hdr
@@ -325,7 +326,7 @@ CommandRunner SetupRender(CLI::App& sub) {
   sub.add_option("--debug", opt->debug,
                  "Write a debug map instead of the colour: count, weight:PHOTO, depth, normal");
   sub.add_option("--exclude", opt->exclude, "Photos left out (names)");
-  AddRendererOptions(sub, opt->renderer);
+  AddRendererOptions(sub, opt->renderer, opt->no_depth_cache);
   sub.add_option("--mode", opt->renderer.blend.mode,
                  "blend (the paper) or nearest (single nearest photo)")
       ->transform(NamesTo(std::map<std::string, render::BlendMode>{
@@ -352,6 +353,7 @@ CommandRunner SetupRender(CLI::App& sub) {
         throw UsageError(o->get_name() + " applies to HDR renders: add --hdr-mode");
       }
     }
+    opt->renderer.depth_cache_dir = WorkspaceDepthCache(opt->workspace, opt->no_depth_cache);
     return Run(*opt);
   };
 }

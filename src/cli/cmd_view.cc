@@ -21,6 +21,7 @@ CommandRunner SetupView(CLI::App& sub) {
   auto opt = std::make_shared<viewer::ViewerOptions>();
   auto tonemap = std::make_shared<std::string>("auto");
   auto gamma = std::make_shared<float>(0.0f);
+  auto no_depth_cache = std::make_shared<bool>(false);
   sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
   sub.add_option("--camera", opt->camera,
                  "Initial view: photo name, \"QW QX QY QZ TX TY TZ [CAMERA_ID]\" or camera file");
@@ -31,7 +32,7 @@ CommandRunner SetupView(CLI::App& sub) {
       ->default_str("auto");
   sub.add_option("--series", opt->series, "LDR: blend only this exposure series (-1 = all)")
       ->capture_default_str();
-  AddRendererOptions(sub, opt->renderer);
+  AddRendererOptions(sub, opt->renderer, *no_depth_cache);
   sub.add_option("--tonemap", *tonemap, "Reinhard tone mapping: auto (on for HDR), on, off")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "on", "off"}));
@@ -60,7 +61,7 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_option("--soak", opt->soak_frames, "Soak: N frames of camera and exposure steps")
       ->check(kAtLeastZero)
       ->group("");
-  return [opt, tonemap, gamma] {
+  return [opt, tonemap, gamma, no_depth_cache] {
     if (*tonemap != "auto") opt->tonemap = *tonemap == "on";
     if (*gamma != 0) {
       if (!(*gamma >= 0.1f && *gamma <= 10)) throw UsageError("--gamma must be in [0.1, 10]");
@@ -70,6 +71,7 @@ CommandRunner SetupView(CLI::App& sub) {
       throw UsageError("--key must be finite and > 0, --exposure finite");
     }
     CheckBlendOptions(opt->renderer.blend);
+    opt->renderer.depth_cache_dir = WorkspaceDepthCache(opt->workspace, *no_depth_cache);
     if ((!opt->screenshot.empty() || !opt->window_screenshot.empty()) && opt->frames == 0) {
       opt->frames = 3;
     }

@@ -4,6 +4,7 @@
 
 #include "cli/cli_util.h"
 #include "core/error.h"
+#include "io/depth_map_cache.h"
 
 namespace hdribr::cli {
 
@@ -60,10 +61,22 @@ CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size) {
       ->check(kAtLeastZero);
 }
 
-void AddRendererOptions(CLI::App& app, render::RendererOptions& options) {
+CLI::Option* AddNoDepthCacheOption(CLI::App& app, bool& off) {
+  return app.add_flag("--no-depth-cache", off,
+                      "Compute the photos' depth maps instead of reusing them from (and storing "
+                      "them in) " +
+                          DepthMapCacheDir("WORKSPACE").string());
+}
+
+void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache) {
   AddDepthModeOption(app, options.depth.mode);
   AddBlendOptions(app, options.blend);
   AddMaxPhotoSizeOption(app, options.max_photo_size);
+  AddNoDepthCacheOption(app, no_depth_cache);
+}
+
+std::filesystem::path WorkspaceDepthCache(const std::filesystem::path& workspace, bool off) {
+  return off ? std::filesystem::path() : DepthMapCacheDir(workspace);
 }
 
 void CheckBlendOptions(const render::BlendOptions& blend) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -27,8 +28,14 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background);
 // --max-photo-size PX into `max_photo_size` (0 = full size).
 CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size);
-// The three above on `options` (depth mode, blend options, photo size).
-void AddRendererOptions(CLI::App& app, render::RendererOptions& options);
+// --no-depth-cache into `off`: compute the photos' depth maps without the workspace's cache.
+CLI::Option* AddNoDepthCacheOption(CLI::App& app, bool& off);
+// The three above on `options` (depth mode, blend options, photo size) and --no-depth-cache
+// into `no_depth_cache` (for WorkspaceDepthCache once the workspace is known).
+void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache);
+// The renderer's depth_cache_dir for `workspace`: its cache folder (DepthMapCacheDir), or
+// none when `off` (--no-depth-cache).
+std::filesystem::path WorkspaceDepthCache(const std::filesystem::path& workspace, bool off);
 
 // Throws UsageError naming the flag of the first blend option that no blend can use
 // (render::BlendOptionProblems); call before any work.

@@ -4,6 +4,8 @@
 #include <regex>
 #include <sstream>
 
+#include "core/hash.h"
+
 namespace hdribr::gl {
 
 ShaderLibrary::ShaderLibrary() : ShaderLibrary(EmbeddedShaders()) {}
@@ -84,9 +86,11 @@ std::string ShaderLibrary::MapLog(const std::string& log) const {
 }
 
 Program ShaderLibrary::Build(const std::vector<std::string>& names, const Defines& defines) const {
+  const size_t variant = built_.size();
   built_.push_back({names, defines});
   Program program = Program::Create();
   std::vector<Shader> shaders;
+  Fnv1a64 source_hash;
   for (const std::string& name : names) {
     GLenum stage = 0;
     const std::string ext = name.substr(name.find_last_of('.') + 1);
@@ -101,6 +105,7 @@ Program ShaderLibrary::Build(const std::vector<std::string>& names, const Define
     else
       throw ShaderError("unknown shader stage for " + name);
     const std::string src = Preprocess(name, defines);
+    source_hash.AddString(src);
     Shader shader(stage);
     const char* ptr = src.c_str();
     glShaderSource(shader.id(), 1, &ptr, nullptr);
@@ -118,6 +123,7 @@ Program ShaderLibrary::Build(const std::vector<std::string>& names, const Define
     glAttachShader(program.id(), shader.id());
     shaders.push_back(std::move(shader));
   }
+  built_[variant].source_hash = source_hash.value();
   glLinkProgram(program.id());
   GLint ok = 0;
   glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);

@@ -2,6 +2,7 @@
 // #define injection for variants, and compile errors that name the file and line.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -46,6 +47,9 @@ class ShaderLibrary {
   struct Variant {
     std::vector<std::string> names;
     Defines defines;
+    // FNV-1a (core/hash.h) of the preprocessed sources of its stages, as the driver received
+    // them; 0 until every stage compiled.
+    std::uint64_t source_hash = 0;
   };
   // Every program Build() was asked for, in order (for the shader portability test).
   const std::vector<Variant>& built() const { return built_; }

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/projection.h"
 
 namespace hdribr::render {
@@ -135,6 +136,7 @@ DepthPass::Buffers& DepthPass::BuffersFor(int width, int height) {
 
 DepthPass::DepthPass(const gl::ShaderLibrary& shaders, DepthPassOptions options)
     : options_(options),
+      first_program_(shaders.built().size()),
       splat_(shaders.Build({"splat.vert", "splat.frag"})),
       project_all_(shaders.Build({"project.vert", "project.frag"}, {{"CLASSIFY", "0"}})),
       project_front_(shaders.Build({"project.vert", "project.frag"}, {{"CLASSIFY", "1"}})),
@@ -167,6 +169,11 @@ DepthPass::DepthPass(const gl::ShaderLibrary& shaders, DepthPassOptions options)
   for (int i = 0; i <= DepthStepTimes::kSteps; ++i) {
     stamps_.push_back(gl::TimestampQuery::Create());
   }
+  Fnv1a64 hash;
+  for (size_t i = first_program_; i < shaders.built().size(); ++i) {
+    hash.Add(shaders.built()[i].source_hash);
+  }
+  program_hash_ = hash.value();
 }
 
 DepthPass::~DepthPass() = default;

@@ -62,6 +62,8 @@ struct DepthTarget {
   int height() const { return depth.height(); }
 };
 
+// Options of the depth pass. A field that changes the pass's output must be part of the key of
+// the photos' depth-map cache (PhotoDepthMapsKey, render/photo_depth_key.cc).
 struct DepthPassOptions {
   DepthMode mode = DepthMode::kLechelek;
   PointRaster raster = PointRaster::kCompute;
@@ -108,7 +110,10 @@ class DepthPass {
   void Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target);
 
   DepthPassOptions& options() { return options_; }
+  const DepthPassOptions& options() const { return options_; }
   const DepthStepTimes& last_times() const { return times_; }
+  // Hash of the sources of every program of the pass (and its pull-push), as compiled.
+  std::uint64_t program_hash() const { return program_hash_; }
 
  private:
   struct Buffers;
@@ -119,6 +124,7 @@ class DepthPass {
   size_t PointsPerDispatch() const;  // compute raster: points per dispatch (options, limits)
 
   DepthPassOptions options_;
+  size_t first_program_;  // index in the library's built() of the pass's first program
   gl::Program splat_;
   gl::Program project_all_;
   gl::Program project_front_;
@@ -137,6 +143,7 @@ class DepthPass {
   float max_point_size_ = 64.0f;
   size_t max_points_per_dispatch_ = 1;  // points in one storage block (compute raster)
   size_t dispatch_step_ = 1;            // a range's first point: a multiple of this
+  std::uint64_t program_hash_ = 0;
 };
 
 }  // namespace hdribr::render

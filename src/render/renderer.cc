@@ -57,7 +57,8 @@ struct Renderer::Impl {
         blend(shaders),
         depth_pass(shaders, WithPoints(options.depth)),
         textures(s, options.photo_images, options.max_photo_size),
-        depth_maps(s, PrepareDepthPass(depth_pass, s), options.photo_depth_scale) {
+        depth_maps(s, PrepareDepthPass(depth_pass, s), options.photo_depth_scale,
+                   options.depth_cache_dir) {
     // The pixels were uploaded: do not keep a second copy of an HDR photo set in memory.
     options.photo_images.clear();
     options.photo_images.shrink_to_fit();
@@ -202,5 +203,7 @@ size_t Renderer::gpu_bytes() const {
                                        static_cast<size_t>(d.height()) *
                                        static_cast<size_t>(d.layers()) * 4;
 }
+
+bool Renderer::depth_maps_from_cache() const { return impl_->depth_maps.from_cache(); }
 
 }  // namespace hdribr::render

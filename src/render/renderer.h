@@ -3,6 +3,7 @@
 // share; the passes themselves live in depth_pass.h, blend_pass.h, photo_textures.h.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -25,6 +26,8 @@ struct RendererOptions {
   BlendOptions blend;
   int max_photo_size = 0;          // longest side of photos on the GPU; 0 = full size
   double photo_depth_scale = 1.0;  // size of the per-photo depth maps relative to the photos
+  // Folder caching the photos' depth maps across runs (io/depth_map_cache.h); empty = none.
+  std::filesystem::path depth_cache_dir;
   // Photo pixels to use instead of the files on disk (an HDR photo set, CV_32FC3 BGR, one per
   // scene photo in scene order); empty = read scene.photos[i].image_path.
   std::vector<cv::Mat> photo_images;
@@ -91,6 +94,8 @@ class Renderer {
   const RenderTimes& polled_times();
   // GPU memory of the photo textures and depth maps, bytes.
   size_t gpu_bytes() const;
+  // True when the photos' depth maps were read from options.depth_cache_dir.
+  bool depth_maps_from_cache() const;
 
  private:
   struct Impl;

@@ -43,11 +43,13 @@ void SaveWindow(const std::filesystem::path& png, int fb_width, int fb_height) {
 }
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Camera& camera,
-                             std::filesystem::path workspace, int max_photo_size)
+                             std::filesystem::path workspace, int max_photo_size,
+                             std::filesystem::path depth_cache_dir)
     : scene_(scene),
       camera_(camera),
       workspace_(std::move(workspace)),
       max_photo_size_(max_photo_size),
+      depth_cache_dir_(std::move(depth_cache_dir)),
       tonemap_pass_(shaders_),
       false_colour_(shaders_),
       frustum_pass_(shaders_),
@@ -81,6 +83,7 @@ void FrameRenderer::Load(ViewState& state) {
     ldr_.reset();
     render::RendererOptions ro;
     ro.max_photo_size = max_photo_size_;
+    ro.depth_cache_dir = depth_cache_dir_;
     const auto t0 = Clock::now();
     std::printf("loading %zu photos, computing their depth maps (%s)...\n", scene_.photos.size(),
                 HdrSourceName(s.source).c_str());

@@ -41,9 +41,10 @@ void SaveWindow(const std::filesystem::path& png, int fb_width, int fb_height);
 class FrameRenderer {
  public:
   // Needs a current GL 4.5 context; `scene` and `camera` (the view's intrinsics) must outlive
-  // it. max_photo_size: longest photo side on the GPU (0 = full size).
+  // it. max_photo_size: longest photo side on the GPU (0 = full size); depth_cache_dir: the
+  // renderers' cache of the photos' depth maps (empty = none).
   FrameRenderer(const Scene& scene, const Camera& camera, std::filesystem::path workspace,
-                int max_photo_size);
+                int max_photo_size, std::filesystem::path depth_cache_dir);
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
@@ -79,6 +80,7 @@ class FrameRenderer {
   const Camera& camera_;
   std::filesystem::path workspace_;
   int max_photo_size_;
+  std::filesystem::path depth_cache_dir_;
   gl::ShaderLibrary shaders_;
   std::unique_ptr<render::Renderer> ldr_;
   std::unique_ptr<render::HdrRenderer> hdr_;
