@@ -107,6 +107,7 @@ void FrameRenderer::Load(ViewState& state) {
   r.blend_options().k_best = s.k_best;
   r.blend_options().lambda = s.lambda;
   r.blend_options().occlusion_tolerance = s.tolerance;
+  r.blend_options().background = s.background;
   r.blend_options().mode = state.display == DisplayMode::kNearestPhoto
                                ? render::BlendMode::kNearestPhoto
                                : render::BlendMode::kBlend;

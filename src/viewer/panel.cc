@@ -106,6 +106,7 @@ void DrawSettings(ViewState& state, const Scene& scene) {
   ImGui::SliderFloat("lambda", &s.lambda, 0.0f, 0.5f, "%.4f");
   ImGui::SliderFloat("occlusion tol.", &s.tolerance, 0.001f, 0.1f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
+  EnumCombo("background", s.background, "none\0infinity\0sphere\0");
   int mode = static_cast<int>(state.display);
   if (ImGui::Combo("display", &mode, DisplayModeCombo())) {
     state.SetDisplay(static_cast<DisplayMode>(mode));

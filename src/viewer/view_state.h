@@ -49,6 +49,7 @@ struct Settings {
   int k_best = 0;
   float lambda = 1e-4f;
   float tolerance = 0.01f;  // occlusion tolerance, relative depth
+  render::Background background = render::Background::kSphere;
   bool operator==(const Settings&) const = default;
 };
 

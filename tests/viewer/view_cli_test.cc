@@ -94,6 +94,19 @@ TEST_F(ViewCliTest, ScreenshotMatchesOfflineRender) {
   // The linear EXR next to it holds the blended values.
   const cv::Mat exr = ReadExr(out / "view.exr");
   ASSERT_EQ(exr.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
+  // The renderer options reach the viewer: without the background, the sky stays empty in
+  // both, and the viewer matches render again.
+  r = View("--hdr ldr --camera s1_v01.jpg --background none --frames 3 --screenshot " +
+           (out / "view_none.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::RunCommand(Exe() + " render " + Ws() + " --camera s1_v01.jpg --background none --out " +
+                       (out / "render_none.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Comparison none = Compare(ReadPng(out / "view_none.png"), ReadPng(out / "render_none.png"));
+  EXPECT_LT(none.validity_mismatch, 0.001);
+  EXPECT_LT(none.mad, 0.5);
+  std::printf("valid pixels: default background %d, none %d\n", c.valid, none.valid);
+  EXPECT_LT(none.valid, c.valid - test::kSmallCaptureWidth * test::kSmallCaptureHeight / 50);
 }
 
 TEST_F(ViewCliTest, ExposureChangesOnlyTheToneMappedPicture) {
