@@ -1,5 +1,6 @@
 // `hdribr eval WORKSPACE (--leave-one-out | --gt CAPTURE)`: image quality of the renderer and
-// of two baselines (nearest-photo texturing, colour-per-point splats) on the same pixels.
+// of two baselines (nearest-photo texturing, colour-per-point splats) on the same pixels;
+// `hdribr eval WORKSPACE --cameras GT_MODEL`: accuracy of the workspace's cameras.
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -11,9 +12,11 @@
 #include "cli/command.h"
 #include "cli/render_options.h"
 #include "core/error.h"
+#include "eval/camera_accuracy.h"
 #include "eval/leave_one_out.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
+#include "io/colmap_model.h"
 #include "io/workspace.h"
 #include "render/renderer.h"
 
@@ -24,6 +27,7 @@ struct EvalCliOptions {
   std::string workspace;
   bool leave_one_out = false;
   std::string gt;
+  std::string cameras;  // a ground-truth COLMAP model of the same photos
   std::vector<std::string> photos;
   std::string series;
   std::string out;
@@ -33,6 +37,14 @@ struct EvalCliOptions {
   render::RendererOptions renderer;  // depth mode, blend options, photo size
   bool no_depth_cache = false;
 };
+
+int RunCameras(const EvalCliOptions& opt) {
+  const WorkspaceLayout layout = DetectWorkspace(opt.workspace);
+  const ColmapModel reconstruction = ReadColmapModel(layout.sparse_dir);
+  const ColmapModel gt = ReadColmapCameras(opt.cameras);
+  std::printf("%s", eval::FormatCameraAccuracy(eval::CompareCameras(reconstruction, gt)).c_str());
+  return 0;
+}
 
 int Run(const EvalCliOptions& opt) {
   eval::EvalOptions options;
@@ -84,7 +96,11 @@ CommandRunner SetupEval(CLI::App& sub) {
                            "Re-render each chosen photo from the other photos of its series");
   auto* gt =
       sub.add_option("--gt", opt->gt, "Synthetic capture folder: score its GT novel views instead");
+  auto* cameras = sub.add_option("--cameras", opt->cameras,
+                                 "Ground-truth COLMAP model of the same photos: score the "
+                                 "workspace's cameras (similarity-aligned centres, rotations)");
   loo->excludes(gt);
+  cameras->excludes(loo)->excludes(gt);
   sub.add_option("--photos", opt->photos, "Held-out photos (default: all of the series)")
       ->expected(1, -1);
   sub.add_option("--series", opt->series,
@@ -98,9 +114,10 @@ CommandRunner SetupEval(CLI::App& sub) {
       ->default_val("photos")
       ->check(CLI::IsMember({"photos", "cloud"}));
   AddRendererOptions(sub, opt->renderer, opt->no_depth_cache);
-  return [opt, loo, gt] {
+  return [opt, loo, gt, cameras] {
+    if (cameras->count() > 0) return RunCameras(*opt);
     if (loo->count() == 0 && gt->count() == 0) {
-      throw UsageError("eval: give --leave-one-out or --gt CAPTURE_DIR");
+      throw UsageError("eval: give --leave-one-out, --gt CAPTURE_DIR or --cameras GT_MODEL");
     }
     return Run(*opt);
   };

@@ -471,6 +471,19 @@ ColmapModel ReadColmapModelText(const fs::path& dir) {
   return m;
 }
 
+ColmapModel ReadColmapCameras(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    throw InputError(dir, fs::exists(dir, ec) ? "not a folder" : "no such model folder");
+  }
+  if (IsFile(dir / "points3D.txt") || IsFile(dir / "points3D.bin")) return ReadColmapModel(dir);
+  ColmapModel m;
+  ParseCamerasText(ReadFileToString(dir / "cameras.txt"), dir / "cameras.txt", m);
+  ParseImagesText(ReadFileToString(dir / "images.txt"), dir / "images.txt", m);
+  CheckReferences(m, dir / "images.txt", dir / "points3D.txt");
+  return m;
+}
+
 ColmapModel ReadColmapModel(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {

@@ -52,6 +52,9 @@ enum class ColmapFormat { kText, kBinary };
 // non-unit quaternion, unknown camera model, dangling ids).
 ColmapModel ReadColmapModel(const std::filesystem::path& dir);
 ColmapModel ReadColmapModelText(const std::filesystem::path& dir);
+// A model folder whose points3D file may be absent (a set of ground-truth cameras: cameras and
+// images only, TEXT then); with points3D, ReadColmapModel.
+ColmapModel ReadColmapCameras(const std::filesystem::path& dir);
 ColmapModel ReadColmapModelBinary(const std::filesystem::path& dir);
 // Parses binary buffers (the three files' bytes); `dir` only names files in errors.
 ColmapModel ParseColmapModelBinary(const std::string& cameras_bin, const std::string& images_bin,
