@@ -152,7 +152,8 @@ HdrPhotoSet PlanHdrPhotoSet(const Scene& scene, const HdrPhotoSetOptions& option
 }
 
 HdrPhotoSet WriteHdrPhotoSet(HdrPhotoSet set, const std::vector<ExposureStack>& stacks,
-                             const HdrPhotoSetOptions& options) {
+                             const HdrPhotoSetOptions& options,
+                             const std::vector<std::vector<cv::Mat>>& sample_masks) {
   const int n_series = static_cast<int>(set.series_names.size());
   HDRIBR_CHECK(stacks.size() == set.views.size() && n_series >= 2);
   std::vector<HdrSetView>& views = set.views;
@@ -164,6 +165,7 @@ HdrPhotoSet WriteHdrPhotoSet(HdrPhotoSet set, const std::vector<ExposureStack>& 
     images[i] = stacks[i].images;
     masks[i] = stacks[i].masks;
   }
+  HDRIBR_CHECK(sample_masks.empty() || sample_masks.size() == views.size());
   // Response: given, or calibrated from all reference stacks side by side (one mosaic per
   // series, so that samples spread over every view; masks keep only all-series-valid pixels).
   ResponseCurve response;
@@ -178,7 +180,7 @@ HdrPhotoSet WriteHdrPhotoSet(HdrPhotoSet set, const std::vector<ExposureStack>& 
       for (size_t i = 0; i < views.size(); ++i) {
         // Views may differ in size: pad to the tallest with invalid pixels.
         row_images.push_back(images[i][s]);
-        row_masks.push_back(masks[i][s]);
+        row_masks.push_back(sample_masks.empty() ? masks[i][s] : sample_masks[i][s]);
       }
       int max_h = 0;
       for (const cv::Mat& m : row_images) max_h = std::max(max_h, m.rows);

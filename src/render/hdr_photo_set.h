@@ -91,9 +91,12 @@ HdrPhotoSet PlanHdrPhotoSet(const Scene& scene, const HdrPhotoSetOptions& option
 // Calibrates (unless options.response_file) from the aligned stacks, stacks[i] = the per-series
 // 8-bit renders of plan.views[i] with their masks (times = plan.series_exposures), merges
 // (eq. 7) and writes the set to plan.folder. Throws UsageError when no pixel is valid in all
-// series (and no response file is given).
+// series (and no response file is given). sample_masks[i][s], when given, restrict the
+// calibration samples of view i and series s (e.g. to the pixels rendered from points: the
+// background's parallax makes its pixels poor samples); the merge uses the stacks' masks.
 HdrPhotoSet WriteHdrPhotoSet(HdrPhotoSet plan, const std::vector<ExposureStack>& stacks,
-                             const HdrPhotoSetOptions& options = {});
+                             const HdrPhotoSetOptions& options = {},
+                             const std::vector<std::vector<cv::Mat>>& sample_masks = {});
 
 // Reads <folder>/hdr_set.json (folder = a workspace, whose hdr/ is used, or the set folder
 // itself). Throws InputError naming the file when missing or malformed.

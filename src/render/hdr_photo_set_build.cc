@@ -10,12 +10,14 @@ HdrPhotoSet BuildHdrPhotoSet(const gl::ShaderLibrary& shaders, const Scene& scen
                              const HdrPhotoSetOptions& options) {
   HdrPhotoSet plan = PlanHdrPhotoSet(scene, options);
   // Aligned LDR renders: one per series and view, from that series' photos only; the blended
-  // display value rounded back to 8 bits, the render's validity as the mask.
+  // display value rounded back to 8 bits, the render's validity as the mask; calibration
+  // samples only where a point was rendered.
   RendererOptions ropt = options.renderer;
   ropt.blend.encoding = PhotoEncoding::kDisplay;
   ropt.photo_images.clear();
   Renderer renderer(shaders, scene, ropt);
   std::vector<ExposureStack> stacks(plan.views.size());
+  std::vector<std::vector<cv::Mat>> from_points(plan.views.size());  // calibration samples
   for (size_t i = 0; i < plan.views.size(); ++i) {
     const View& v = plan.views[i].view;
     stacks[i].times = plan.series_exposures;
@@ -27,13 +29,14 @@ HdrPhotoSet BuildHdrPhotoSet(const gl::ShaderLibrary& shaders, const Scene& scen
       r.color.convertTo(bgr8, CV_8UC3, 255.0);
       stacks[i].images.push_back(bgr8);
       stacks[i].masks.push_back(r.valid.clone());
+      from_points[i].push_back(r.valid & (r.depth > 0));
     }
     if (options.progress) {
       options.progress(static_cast<int>(i) + 1, static_cast<int>(plan.views.size()));
     }
   }
   renderer.SetAllPhotosActive();
-  return WriteHdrPhotoSet(std::move(plan), stacks, options);
+  return WriteHdrPhotoSet(std::move(plan), stacks, options, from_points);
 }
 
 }  // namespace hdribr::render
