@@ -49,10 +49,20 @@ CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size) {
       ->check(kAtLeastZero);
 }
 
+CLI::Option* AddCandidatesOption(CLI::App& app, int& max_candidates) {
+  return app
+      .add_option("--candidates", max_candidates,
+                  "Most candidate photos per frame: the blend uses only the active photos that "
+                  "can matter for the view, at most N (0 = every active photo)")
+      ->capture_default_str()
+      ->check(kAtLeastZero);
+}
+
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options) {
   AddDepthModeOption(app, options.depth.mode);
   AddBlendOptions(app, options.blend);
   AddMaxPhotoSizeOption(app, options.max_photo_size);
+  AddCandidatesOption(app, options.max_candidates);
 }
 
 void CheckBlendOptions(const render::BlendOptions& blend) {

@@ -24,7 +24,9 @@ CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster);
 void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
 // --max-photo-size PX into `max_photo_size` (0 = full size).
 CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size);
-// The three above on `options` (depth mode, blend options, photo size).
+// --candidates N into `max_candidates` (0 = every active photo).
+CLI::Option* AddCandidatesOption(CLI::App& app, int& max_candidates);
+// The four above on `options` (depth mode, blend options, photo size, candidates).
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options);
 
 // Throws UsageError naming the flag of the first blend option that no blend can use

@@ -48,7 +48,8 @@ struct Settings {
   render::BlendWeights weights = render::BlendWeights::kUnstructured;
   int k_best = 0;
   float lambda = 1e-4f;
-  float tolerance = 0.01f;  // occlusion tolerance, relative depth
+  float tolerance = 0.01f;                             // occlusion tolerance, relative depth
+  int max_candidates = render::kDefaultMaxCandidates;  // 0 = every active photo
   bool operator==(const Settings&) const = default;
 };
 
