@@ -1,5 +1,6 @@
 // `hdribr bench render`: frame time of the renderer split into depth pass and blend pass, per
-// output size, photo count and K best, on a generated scene (points + synthetic photos).
+// output size, photo count, K best and candidate cap, on a generated scene (points + synthetic
+// photos).
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -25,8 +26,10 @@ namespace {
 
 struct BenchRenderOptions {
   std::string sizes = "512x512,1920x1080";
-  std::string photos = "20,60";
+  std::string photos = "20,60,200";
   std::string k_best = "0,1,4";
+  // Caps on the candidate photos per frame: 0 (every photo) and the renderer's default.
+  std::string candidates = "0," + std::to_string(render::kDefaultMaxCandidates);
   long long points = 1000000;
   std::string photo_size = "640x480";
   int frames = 2;
@@ -86,6 +89,7 @@ int Run(const BenchRenderOptions& opt) {
   }
   const std::vector<int> photo_counts = ParseInts(opt.photos, "--photos", 1);
   const std::vector<int> ks = ParseInts(opt.k_best, "--k-best", 0);
+  const std::vector<int> caps = ParseInts(opt.candidates, "--candidates", 0);
   const cv::Size photo_size = ParseSize(opt.photo_size, "--photo-size");
   const int pw = photo_size.width, ph = photo_size.height;
 
@@ -95,8 +99,9 @@ int Run(const BenchRenderOptions& opt) {
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
   FILE* table = TableStream(opt.json);
-  std::fprintf(table, "%-10s %6s %5s %10s %10s %10s %10s %8s\n", "size", "photos", "K", "depth_ms",
-               "blend_ms", "total_ms", "wall_ms", "valid%");
+  std::fprintf(table, "%-10s %6s %5s %5s %5s %7s %10s %10s %10s %10s %8s %8s\n", "size", "photos",
+               "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "total_ms", "wall_ms",
+               "valid%", "psnr_all");
   for (int count : photo_counts) {
     std::vector<cv::Mat> images;
     const Scene scene = MakeScene(count, pw, ph, cloud, images);
@@ -112,41 +117,63 @@ int Run(const BenchRenderOptions& opt) {
       render::RenderTarget target = render::RenderTarget::Create(w, h);
       for (int k : ks) {
         renderer.blend_options().k_best = k >= count ? 0 : k;
-        renderer.Render(cam, cam_from_world, target);  // warm-up
-        double depth_ms = 0, blend_ms = 0;
-        const auto t0 = std::chrono::steady_clock::now();
-        for (int i = 0; i < opt.frames; ++i) {
-          renderer.Render(cam, cam_from_world, target);
-          depth_ms += renderer.last_times().depth_ms / opt.frames;
-          blend_ms += renderer.last_times().blend_ms / opt.frames;
+        cv::Mat all_photos;  // this K's render from every photo (cap 0), when measured first
+        for (int cap : caps) {
+          renderer.SetMaxCandidates(cap);
+          renderer.Render(cam, cam_from_world, target);  // warm-up
+          double depth_ms = 0, blend_ms = 0, select_ms = 0, used = 0;
+          const auto t0 = std::chrono::steady_clock::now();
+          for (int i = 0; i < opt.frames; ++i) {
+            renderer.Render(cam, cam_from_world, target);
+            depth_ms += renderer.last_times().depth_ms / opt.frames;
+            blend_ms += renderer.last_times().blend_ms / opt.frames;
+            select_ms += renderer.last_candidates().select_ms / opt.frames;
+            used += static_cast<double>(renderer.last_candidates().photos.size()) / opt.frames;
+          }
+          const double wall_ms =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                  .count() /
+              opt.frames;
+          const render::RenderImages im = render::Renderer::Read(target);
+          const double valid = 100.0 * cv::countNonZero(im.valid) / (w * h);
+          const double mean_count =
+              cv::countNonZero(im.valid) ? cv::mean(im.count, im.valid)[0] : 0;
+          // PSNR (8-bit scale, every pixel) against the render from every photo.
+          double psnr_all = -1;
+          if (cap == 0) {
+            all_photos = im.color.clone();
+          } else if (!all_photos.empty()) {
+            psnr_all = cv::PSNR(im.color * 255.0, all_photos * 255.0, 255.0);
+          }
+          char size_text[32], psnr_text[32] = "-";
+          std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
+          if (psnr_all >= 0) std::snprintf(psnr_text, sizeof(psnr_text), "%.2f", psnr_all);
+          std::fprintf(table,
+                       "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %10.1f %10.1f %8.1f %8s\n",
+                       size_text, count, k == 0 || k >= count ? "all" : std::to_string(k).c_str(),
+                       cap == 0 ? "all" : std::to_string(cap).c_str(), used, select_ms, depth_ms,
+                       blend_ms, depth_ms + blend_ms, wall_ms, valid, psnr_text);
+          std::fflush(table);
+          results.push_back(
+              {{"width", w},
+               {"height", h},
+               {"photos", count},
+               {"k_best", k >= count ? 0 : k},
+               {"max_candidates", cap},
+               {"candidates_per_frame", used},
+               {"candidates_ms", select_ms},
+               {"points", opt.points},
+               {"photo_size", opt.photo_size},
+               {"frames", opt.frames},
+               {"depth_ms", depth_ms},
+               {"blend_ms", blend_ms},
+               {"wall_ms", wall_ms},
+               {"valid_percent", valid},
+               {"mean_photos_per_pixel", mean_count},
+               {"psnr_vs_all_photos", psnr_all < 0 ? nlohmann::json() : nlohmann::json(psnr_all)},
+               {"setup_s", setup_s},
+               {"gpu_bytes", renderer.gpu_bytes()}});
         }
-        const double wall_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count() /
-            opt.frames;
-        const render::RenderImages im = render::Renderer::Read(target);
-        const double valid = 100.0 * cv::countNonZero(im.valid) / (w * h);
-        const double mean_count = cv::countNonZero(im.valid) ? cv::mean(im.count, im.valid)[0] : 0;
-        char size_text[32];
-        std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
-        std::fprintf(table, "%-10s %6d %5s %10.1f %10.1f %10.1f %10.1f %8.1f\n", size_text, count,
-                     k == 0 || k >= count ? "all" : std::to_string(k).c_str(), depth_ms, blend_ms,
-                     depth_ms + blend_ms, wall_ms, valid);
-        std::fflush(table);
-        results.push_back({{"width", w},
-                           {"height", h},
-                           {"photos", count},
-                           {"k_best", k >= count ? 0 : k},
-                           {"points", opt.points},
-                           {"photo_size", opt.photo_size},
-                           {"frames", opt.frames},
-                           {"depth_ms", depth_ms},
-                           {"blend_ms", blend_ms},
-                           {"wall_ms", wall_ms},
-                           {"valid_percent", valid},
-                           {"mean_photos_per_pixel", mean_count},
-                           {"setup_s", setup_s},
-                           {"gpu_bytes", renderer.gpu_bytes()}});
       }
     }
   }
@@ -161,7 +188,8 @@ int Run(const BenchRenderOptions& opt) {
 }  // namespace
 
 CommandRunner SetupBenchRender(CLI::App& sub);
-HDRIBR_BENCH(render, "Renderer frame time: depth pass / blend pass vs size, photos, K best",
+HDRIBR_BENCH(render,
+             "Renderer frame time: depth pass / blend pass vs size, photos, K best, candidates",
              SetupBenchRender);
 
 CommandRunner SetupBenchRender(CLI::App& sub) {
@@ -172,6 +200,9 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
       ->default_val(opt->photos);
   sub.add_option("--k-best", opt->k_best, "K best values (0 = all), comma-separated")
       ->default_val(opt->k_best);
+  sub.add_option("--candidates", opt->candidates,
+                 "Caps on the candidate photos per frame (0 = every photo), comma-separated")
+      ->default_val(opt->candidates);
   sub.add_option("--points", opt->points, "Point count")->default_val(opt->points);
   sub.add_option("--photo-size", opt->photo_size, "Size of the generated photos WxH")
       ->default_val(opt->photo_size);

@@ -296,11 +296,19 @@ int Run(const RenderCliOptions& opt) {
       spdlog::warn("view {}: no pixel sees a surface seen by a photo: the image is all invalid",
                    view.name);
     }
+    const render::FrameCandidates& candidates = renderer.last_candidates();
     std::printf(
-        "view %s  %dx%d  valid %.2f%%  mean photos/pixel %.2f  depth %.1f ms  blend %.1f ms  "
-        "-> %s\n",
+        "view %s  %dx%d  valid %.2f%%  mean photos/pixel %.2f  candidates %zu of %d  depth %.1f "
+        "ms  blend %.1f ms  -> %s\n",
         view.name.c_str(), size.width, size.height, 100.0 * valid / (size.width * size.height),
-        mean_count, renderer.last_times().depth_ms, renderer.last_times().blend_ms, out.c_str());
+        mean_count, candidates.photos.size(), candidates.active, renderer.last_times().depth_ms,
+        renderer.last_times().blend_ms, out.c_str());
+    if (debug.kind != DebugRequest::kNone) {
+      std::string names;
+      for (int k : candidates.photos) names += " " + scene.photos[static_cast<size_t>(k)].name;
+      std::printf("candidates (%zu, chosen in %.2f ms):%s\n", candidates.photos.size(),
+                  candidates.select_ms, names.c_str());
+    }
   }
   return 0;
 }

@@ -68,10 +68,20 @@ CLI::Option* AddNoDepthCacheOption(CLI::App& app, bool& off) {
                           DepthMapCacheDir("WORKSPACE").string());
 }
 
+CLI::Option* AddCandidatesOption(CLI::App& app, int& max_candidates) {
+  return app
+      .add_option("--candidates", max_candidates,
+                  "Most candidate photos per frame: the blend uses only the active photos that "
+                  "can matter for the view, at most N (0 = every active photo)")
+      ->capture_default_str()
+      ->check(kAtLeastZero);
+}
+
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache) {
   AddDepthModeOption(app, options.depth.mode);
   AddBlendOptions(app, options.blend);
   AddMaxPhotoSizeOption(app, options.max_photo_size);
+  AddCandidatesOption(app, options.max_candidates);
   AddNoDepthCacheOption(app, no_depth_cache);
 }
 

@@ -30,8 +30,10 @@ CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background);
 CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size);
 // --no-depth-cache into `off`: compute the photos' depth maps without the workspace's cache.
 CLI::Option* AddNoDepthCacheOption(CLI::App& app, bool& off);
-// The three above on `options` (depth mode, blend options, photo size) and --no-depth-cache
-// into `no_depth_cache` (for WorkspaceDepthCache once the workspace is known).
+// --candidates N into `max_candidates` (0 = every active photo).
+CLI::Option* AddCandidatesOption(CLI::App& app, int& max_candidates);
+// The four above on `options` (depth mode, blend options, photo size, candidates) and
+// --no-depth-cache into `no_depth_cache` (for WorkspaceDepthCache once the workspace is known).
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache);
 // The renderer's depth_cache_dir for `workspace`: its cache folder (DepthMapCacheDir), or
 // none when `off` (--no-depth-cache).

@@ -60,4 +60,12 @@ void ValidateBlendOptions(const BlendOptions& options) {
   }
 }
 
+int RankedPhotosPerPixel(const BlendOptions& options) {
+  if (options.mode == BlendMode::kNearestPhoto) return 1;
+  if (options.weights == BlendWeights::kUnstructured) {
+    return (options.k_best > 0 ? options.k_best : kDefaultUnstructuredK) + 1;
+  }
+  return options.k_best;
+}
+
 }  // namespace hdribr::render

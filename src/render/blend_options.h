@@ -83,4 +83,9 @@ std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options)
 // Throws OptionError(field, problem) for the first of BlendOptionProblems.
 void ValidateBlendOptions(const BlendOptions& options);
 
+// Photos the blend ranks per pixel: K + 1 for the Unstructured Lumigraph (its threshold is the
+// (K+1)-th penalty), K for the paper's weights with K best, 0 when every photo counts, 1 for
+// the nearest photo.
+int RankedPhotosPerPixel(const BlendOptions& options);
+
 }  // namespace hdribr::render

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/photo_candidates.h"
 #include "render/blend_pass.h"
 #include "render/photo_depth_maps.h"
 #include "render/photo_textures.h"
@@ -32,6 +33,9 @@ struct Renderer::Impl {
   PhotoDepthMaps depth_maps;
   gl::Texture response;  // 256 x 1 RGB32F g(Z), empty without a response curve
   std::vector<int> active;
+  std::vector<int> uploaded;  // the blend pass's active list
+  PhotoCandidates candidates;
+  FrameCandidates last;
   // Two sets of timestamp queries used in turn, so that a render loop reads a frame's times
   // when the next one is issued instead of stalling on them.
   struct Stamps {
@@ -58,7 +62,8 @@ struct Renderer::Impl {
         depth_pass(shaders, WithPoints(options.depth)),
         textures(s, options.photo_images, options.max_photo_size),
         depth_maps(s, PrepareDepthPass(depth_pass, s), options.photo_depth_scale,
-                   options.depth_cache_dir) {
+                   options.depth_cache_dir),
+        candidates(s) {
     // The pixels were uploaded: do not keep a second copy of an HDR photo set in memory.
     options.photo_images.clear();
     options.photo_images.shrink_to_fit();
@@ -88,14 +93,38 @@ struct Renderer::Impl {
   }
 
   void SetAll() {
-    active.resize(scene.photos.size());
-    for (size_t i = 0; i < active.size(); ++i) active[i] = static_cast<int>(i);
-    blend.SetActive(active);
+    std::vector<int> all(scene.photos.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    SetActive(all);
+  }
+
+  void SetActive(const std::vector<int>& photos) {
+    Upload(photos);
+    active = photos;
+  }
+
+  // The blend pass's list, re-uploaded only when it changes.
+  void Upload(const std::vector<int>& photos) {
+    if (photos == uploaded) return;
+    blend.SetActive(photos);
+    uploaded = photos;
   }
 };
 
+namespace {
+
+void CheckMaxCandidates(int max_candidates) {
+  if (max_candidates < 0) {
+    throw OptionError("max_candidates", "must be >= 0 (0 = every active photo), got " +
+                                            std::to_string(max_candidates));
+  }
+}
+
+}  // namespace
+
 Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, RendererOptions options) {
   ValidateBlendOptions(options.blend);  // before any upload
+  CheckMaxCandidates(options.max_candidates);
   const auto t0 = std::chrono::steady_clock::now();
   impl_ = std::make_unique<Impl>(shaders, scene, std::move(options));
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -111,22 +140,40 @@ Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, Rendere
 Renderer::~Renderer() = default;
 
 void Renderer::SetActivePhotos(const std::vector<int>& photo_indices) {
-  impl_->blend.SetActive(photo_indices);
-  impl_->active = photo_indices;
+  impl_->SetActive(photo_indices);
 }
 
 void Renderer::SetAllPhotosActive() { impl_->SetAll(); }
+
+void Renderer::SetMaxCandidates(int max_candidates) {
+  CheckMaxCandidates(max_candidates);
+  impl_->options.max_candidates = max_candidates;
+}
+
+int Renderer::max_candidates() const { return impl_->options.max_candidates; }
 
 void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target) {
   Impl& m = *impl_;
   const Camera cam = (camera.width == target.width() && camera.height == target.height())
                          ? camera
                          : camera.Scaled(target.width(), target.height());
-  const bool nearest = m.options.blend.mode == BlendMode::kNearestPhoto;
-  if (nearest) {
+  // The photos of this frame: the nearest one, the candidates or every active photo.
+  const auto t0 = std::chrono::steady_clock::now();
+  m.last.active = static_cast<int>(m.active.size());
+  m.last.select_ms = 0;
+  if (m.options.blend.mode == BlendMode::kNearestPhoto) {
     const int best = m.scene.NearestPhoto(cam_from_world, m.active);
-    m.blend.SetActive(best >= 0 ? std::vector<int>{best} : std::vector<int>{});
+    m.last.photos = best >= 0 ? std::vector<int>{best} : std::vector<int>{};
+  } else if (m.options.max_candidates > 0 && !m.active.empty()) {
+    const int ranked = RankedPhotosPerPixel(m.options.blend);
+    m.last.photos = m.candidates.Select(cam, cam_from_world, m.active, m.options.max_candidates,
+                                        ranked > 0 ? ranked : m.options.max_candidates);
+    m.last.select_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  } else {
+    m.last.photos = m.active;
   }
+  m.Upload(m.last.photos);
   // The older set is re-used: read it first if it is done (it is overwritten otherwise).
   m.newest = 1 - m.newest;
   Impl::Stamps& stamps = m.stamps[m.newest];
@@ -138,7 +185,6 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
                   m.response ? &m.response : nullptr, target.color, target.aux);
   stamps.t[2].Stamp();
   stamps.unread = true;
-  if (nearest) m.blend.SetActive(m.active);
 }
 
 RenderImages Renderer::RenderToImages(const Camera& camera, const Rigid3d& cam_from_world,
@@ -172,6 +218,7 @@ RenderImages Renderer::Read(const RenderTarget& target) {
   return out;
 }
 
+const FrameCandidates& Renderer::last_candidates() const { return impl_->last; }
 BlendOptions& Renderer::blend_options() { return impl_->options.blend; }
 DepthPass& Renderer::depth_pass() { return impl_->depth_pass; }
 const Scene& Renderer::scene() const { return impl_->scene; }

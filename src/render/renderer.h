@@ -21,6 +21,10 @@
 
 namespace hdribr::render {
 
+// RendererOptions::max_candidates by default: measured to cost no quality
+// (docs/benchmarks.md, "Candidate photos").
+inline constexpr int kDefaultMaxCandidates = 16;
+
 struct RendererOptions {
   DepthPassOptions depth;
   BlendOptions blend;
@@ -28,6 +32,9 @@ struct RendererOptions {
   double photo_depth_scale = 1.0;  // size of the per-photo depth maps relative to the photos
   // Folder caching the photos' depth maps across runs (io/depth_map_cache.h); empty = none.
   std::filesystem::path depth_cache_dir;
+  // Most candidate photos per frame (core/photo_candidates.h): each Render() blends only the
+  // active photos that can matter for its view, at most this many; 0 = every active photo.
+  int max_candidates = kDefaultMaxCandidates;
   // Photo pixels to use instead of the files on disk (an HDR photo set, CV_32FC3 BGR, one per
   // scene photo in scene order); empty = read scene.photos[i].image_path.
   std::vector<cv::Mat> photo_images;
@@ -39,6 +46,13 @@ struct RendererOptions {
 struct RenderTimes {
   double depth_ms = 0;
   double blend_ms = 0;
+};
+
+// The photos the newest Render() blended from.
+struct FrameCandidates {
+  std::vector<int> photos;  // indices into scene.photos, in the order of the active photos
+  int active = 0;           // active photos they were chosen among
+  double select_ms = 0;     // CPU time of the choice (0 without a cap)
 };
 
 // CPU read-back of one rendered view. Rows top to bottom; colours BGR like the rest of the code.
@@ -76,6 +90,9 @@ class Renderer {
   // Used for leave-one-out (--exclude) and per-series renders (HDR).
   void SetActivePhotos(const std::vector<int>& photo_indices);
   void SetAllPhotosActive();
+  // RendererOptions::max_candidates; throws OptionError("max_candidates", ...) below 0.
+  void SetMaxCandidates(int max_candidates);
+  int max_candidates() const;
 
   // Renders the view into `target` (intrinsics rescaled to the target size if they differ).
   void Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target);
@@ -84,6 +101,8 @@ class Renderer {
                               int height);
   static RenderImages Read(const RenderTarget& target);
 
+  // The candidate photos of the newest Render() (none before the first).
+  const FrameCandidates& last_candidates() const;
   BlendOptions& blend_options();
   DepthPass& depth_pass();
   const Scene& scene() const;

@@ -108,6 +108,7 @@ void FrameRenderer::Load(ViewState& state) {
   r.blend_options().lambda = s.lambda;
   r.blend_options().occlusion_tolerance = s.tolerance;
   r.blend_options().background = s.background;
+  r.SetMaxCandidates(s.max_candidates);
   r.blend_options().mode = state.display == DisplayMode::kNearestPhoto
                                ? render::BlendMode::kNearestPhoto
                                : render::BlendMode::kBlend;
@@ -154,6 +155,11 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
     glFinish();
     stats_.render_wall_ms = MsSince(t0);
     stats_.render_gpu = BaseRenderer().last_times();
+    const render::FrameCandidates& c = BaseRenderer().last_candidates();
+    stats_.candidates = static_cast<int>(c.photos.size());
+    stats_.active = c.active;
+    stats_.candidates_ms = c.select_ms;
+    frustum_pass_.SetCandidates(c.photos);
     rendered_pose_ = pose;
     render_dirty_ = false;
     display_dirty_ = true;

@@ -29,7 +29,10 @@ struct FrameStats {
   render::RenderTimes render_gpu;
   double tonemap_wall_ms = 0;
   double tonemap_gpu_ms = 0;
-  float last_la = 1;  // the L_a of the last tone map (radiance target units)
+  int candidates = 0;        // photos the last re-render blended from
+  int active = 0;            // active photos they were chosen among
+  double candidates_ms = 0;  // CPU time of their choice
+  float last_la = 1;         // the L_a of the last tone map (radiance target units)
 };
 
 // Clears the window's framebuffer to the viewer's background (fb_* in pixels).
@@ -55,7 +58,8 @@ class FrameRenderer {
   // Re-renders the radiance at `pose` when the pose, the size or the blend changed, then the
   // display when it or the tone mapping changed. Sizes in pixels; 0 = nothing to draw.
   void Render(const ViewState& state, const Rigid3d& pose, int width, int height);
-  // The display (with the frustums over it when asked) into the window's framebuffer.
+  // The display (with the frustums over it when asked, the candidate photos' in their own
+  // colour) into the window's framebuffer.
   void Blit(int fb_width, int fb_height, bool frustums, int current_photo);
   // Writes the display (.png, tone-mapped) and the linear radiance (.exr) next to it; returns
   // the PNG's path.

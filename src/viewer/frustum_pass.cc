@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
+#include <utility>
 
 #include "core/error.h"
 #include "core/projection.h"
@@ -58,6 +59,10 @@ void FrustumPass::SetLines(const FrustumLines& lines) {
     vertices.push_back({points_.back(), static_cast<float>(lines.photo[i])});
   }
   count_ = vertices.size();
+  int photos = 0;
+  for (int k : lines.photo) photos = std::max(photos, k + 1);
+  flags_.assign(static_cast<size_t>(std::max(photos, 1)), 0);
+  candidate_flags_ = gl::Buffer(flags_.size() * sizeof(int), flags_.data());
   vao_ = gl::VertexArray::Create();
   if (vertices.empty()) {
     buffer_ = gl::Buffer();
@@ -71,6 +76,16 @@ void FrustumPass::SetLines(const FrustumLines& lines) {
   glEnableVertexArrayAttrib(vao_.id(), 1);
   glVertexArrayAttribFormat(vao_.id(), 1, 1, GL_FLOAT, GL_FALSE, offsetof(Vertex, photo));
   glVertexArrayAttribBinding(vao_.id(), 1, 0);
+}
+
+void FrustumPass::SetCandidates(const std::vector<int>& photos) {
+  std::vector<int> flags(flags_.size(), 0);
+  for (int k : photos) {
+    if (k >= 0 && static_cast<size_t>(k) < flags.size()) flags[static_cast<size_t>(k)] = 1;
+  }
+  if (flags == flags_) return;
+  flags_ = std::move(flags);
+  candidate_flags_ = gl::Buffer(flags_.size() * sizeof(int), flags_.data());
 }
 
 void FrustumPass::Draw(const Camera& camera, const Rigid3d& cam_from_world,
@@ -98,6 +113,8 @@ void FrustumPass::Draw(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1i(p, 3, highlight);
   glProgramUniform4fv(p, 4, 1, glm::value_ptr(colour));
   glProgramUniform4fv(p, 5, 1, glm::value_ptr(highlight_colour));
+  glProgramUniform4fv(p, 6, 1, glm::value_ptr(candidate_colour));
+  glProgramUniform1i(p, 7, static_cast<int>(flags_.size()));
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -105,6 +122,7 @@ void FrustumPass::Draw(const Camera& camera, const Rigid3d& cam_from_world,
   fb.Bind(w, h);
   program_.Use();
   glBindTextureUnit(0, scene_depth.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, candidate_flags_.id());
   glBindVertexArray(vao_.id());
   glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(count_));
   glBindVertexArray(0);

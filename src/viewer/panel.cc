@@ -21,7 +21,7 @@ constexpr const char* kHelp[][2] = {
     {"+ / -", "exposure +- 1/2 EV (tone-map pass only)"},
     {"T", "tone mapping on / off"},
     {"1 ... 7", "display: final, depth, normals, classes, count, splats, nearest photo"},
-    {"F", "input camera frustums (3D, hidden by the scene) on / off"},
+    {"F", "input camera frustums (3D, hidden by the scene; candidates green) on / off"},
     {"P", "screenshot (PNG tone-mapped + EXR linear)"},
     {"R", "start / stop recording a camera path"},
     {"L", "play the recorded (or --play) path"},
@@ -103,6 +103,7 @@ void DrawSettings(ViewState& state, const Scene& scene) {
   EnumCombo("weights", s.weights, "paper (eq. 5)\0unstructured lumigraph\0");
   ImGui::SliderInt(s.weights == render::BlendWeights::kPaper ? "K best (0 = all)" : "K (0 = 4)",
                    &s.k_best, 0, 16);
+  ImGui::SliderInt("candidates (0 = all)", &s.max_candidates, 0, 64);
   ImGui::SliderFloat("lambda", &s.lambda, 0.0f, 0.5f, "%.4f");
   ImGui::SliderFloat("occlusion tol.", &s.tolerance, 0.001f, 0.1f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
@@ -122,6 +123,8 @@ void DrawPanel(ViewState& state, const PanelInfo& info) {
               stats.render_wall_ms, stats.render_gpu.depth_ms, stats.render_gpu.blend_ms);
   ImGui::Text("tone map %.2f ms (GPU %.2f)   L_a %.4g", stats.tonemap_wall_ms, stats.tonemap_gpu_ms,
               stats.last_la);
+  ImGui::Text("candidates %d of %d photos (chosen in %.2f ms)", stats.candidates, stats.active,
+              stats.candidates_ms);
   DrawToneMapping(state, stats);
   ImGui::Separator();
   DrawSettings(state, *info.scene);

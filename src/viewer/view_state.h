@@ -50,6 +50,7 @@ struct Settings {
   float lambda = 1e-4f;
   float tolerance = 0.01f;  // occlusion tolerance, relative depth
   render::Background background = render::Background::kSphere;
+  int max_candidates = render::kDefaultMaxCandidates;  // 0 = every active photo
   bool operator==(const Settings&) const = default;
 };
 

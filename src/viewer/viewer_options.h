@@ -18,8 +18,8 @@ struct ViewerOptions {
   HdrSource source = HdrSource::kAuto;
   int series = -1;  // LDR: blend only this exposure series (-1 = all photos)
   // Depth mode (renderer.depth.mode), blend options (renderer.blend: weights, k_best, lambda,
-  // occlusion_tolerance, background), max_photo_size and depth_cache_dir; the rest is the
-  // renderer's defaults.
+  // occlusion_tolerance, background), max_candidates, max_photo_size and depth_cache_dir; the
+  // rest is the renderer's defaults.
   render::RendererOptions renderer;
   // Tone mapping; unset = the source's default (Reinhard on with gamma 2.2 for HDR, off with
   // gamma 1 for LDR photos, whose values are already display-encoded).

@@ -57,7 +57,19 @@ TEST_F(RenderCliTest, DebugMapsPathAndNearest) {
                                     d + " --k-best 2 --out " + (out / "d.png").string());
     ASSERT_EQ(r.exit_code, 0) << d << ": " << r.output;
     EXPECT_EQ(ReadImage(out / "d.png").cols, 128) << d;
+    // --debug lists the frame's candidate photos, the view itself among them.
+    const size_t line = r.output.find("candidates (");
+    ASSERT_NE(line, std::string::npos) << r.output;
+    const std::string listed = r.output.substr(line, r.output.find('\n', line) - line);
+    EXPECT_NE(listed.find(" s0_v00.jpg"), std::string::npos) << listed;
   }
+  // A cap of 2: two candidates of the active photos, named in the view's line.
+  const auto rc = test::RunCommand(Exe() + " render " + Ws() +
+                                   " --camera s0_v00.jpg --candidates 2 --debug count --out " +
+                                   (out / "c.png").string());
+  ASSERT_EQ(rc.exit_code, 0) << rc.output;
+  EXPECT_NE(rc.output.find("candidates 2 of "), std::string::npos) << rc.output;
+  EXPECT_NE(rc.output.find("candidates (2, chosen in"), std::string::npos) << rc.output;
   const auto r = test::RunCommand(Exe() + " render " + Ws() +
                                   " --camera s0_v00.jpg --mode nearest --exclude s0_v00.jpg "
                                   "--max-photo-size 64 --out " +
@@ -109,7 +121,7 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
                        (out / "x.png").string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
   for (const std::string bad : {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2",
-                                "--k-best 40 --weights paper", "--k-best 33"}) {
+                                "--k-best 40 --weights paper", "--k-best 33", "--candidates -1"}) {
     r = test::RunCommand(base + " --camera s0_v00.jpg " + bad + " --out " +
                          (out / "x.png").string());
     EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;

@@ -258,14 +258,21 @@ TEST_F(ViewCliTest, SplatsAndFrustums) {
   const cv::Mat plain = cv::imread((out / "window.png").string());
   const cv::Mat with = cv::imread((out / "window--frustums.png").string());
   ASSERT_EQ(plain.size(), with.size());
-  auto lines = [](const cv::Mat& bgr) {  // pixels of the frustum colours (BGR)
+  auto candidate_lines = [](const cv::Mat& bgr) {  // the frame's candidate photos (green)
+    cv::Mat green;
+    cv::inRange(bgr, cv::Scalar(88, 254, 88), cv::Scalar(90, 255, 90), green);
+    return cv::countNonZero(green);
+  };
+  auto lines = [&](const cv::Mat& bgr) {  // pixels of the frustum colours (BGR)
     cv::Mat a, b;
     cv::inRange(bgr, cv::Scalar(254, 198, 78), cv::Scalar(255, 200, 80), a);
     cv::inRange(bgr, cv::Scalar(0, 198, 254), cv::Scalar(1, 200, 255), b);
-    return cv::countNonZero(a | b);
+    return cv::countNonZero(a | b) + candidate_lines(bgr);
   };
-  std::printf("frustum-coloured pixels: %d with, %d without\n", lines(with), lines(plain));
+  std::printf("frustum-coloured pixels: %d with (%d of candidates), %d without\n", lines(with),
+              candidate_lines(with), lines(plain));
   EXPECT_GT(lines(with), 50);
+  EXPECT_GT(candidate_lines(with), 10);
   EXPECT_LE(lines(plain), 2);
 }
 

@@ -183,6 +183,18 @@ TEST(ViewerFrustumPass, LinesHiddenWhereTheSceneIsNearer) {
   cv::Mat hl;
   drawn(0.0f, 0, &hl);
   EXPECT_EQ(count_colour(hl, cv::Vec4b(255, 199, 0, 255)), none);
+  // A candidate photo gets the candidate colour (the highlight still wins); out-of-range
+  // indices are ignored; no candidates, the normal colour again.
+  const cv::Vec4b candidate(89, 255, 89, 255);
+  pass.SetCandidates({0, 7, -1});
+  cv::Mat cand;
+  drawn(0.0f, -1, &cand);
+  EXPECT_EQ(count_colour(cand, candidate), none);
+  drawn(0.0f, 0, &hl);
+  EXPECT_EQ(count_colour(hl, cv::Vec4b(255, 199, 0, 255)), none);
+  pass.SetCandidates({});
+  drawn(0.0f, -1, &cand);
+  EXPECT_EQ(count_colour(cand, cv::Vec4b(79, 199, 255, 255)), none);
   // A view 10 units behind (every vertex at camera z 13 ... 14): drawn, smaller; a view past
   // the frustum (every vertex behind the camera): nothing.
   Rigid3d away;
