@@ -94,7 +94,18 @@ TEST(EvalCli, BadSelectionsAreOneClearError) {
   EXPECT_EQ(CountLines(r.output), 1) << r.output;
   r = test::RunCommand(Exe() + " -q eval " + ws + " 2>&1");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("--leave-one-out or --gt"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--leave-one-out, --gt CAPTURE_DIR or --cameras"), std::string::npos)
+      << r.output;
+  r = test::RunCommand(Exe() + " -q eval " + ws + " --cameras " + (out / "none").string() +
+                       " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no such model folder"), std::string::npos) << r.output;
+  EXPECT_EQ(CountLines(r.output), 1) << r.output;
+  // The workspace's own model as the ground truth: every camera exact.
+  r = test::RunCommand(Exe() + " -q eval " + ws + " --cameras " + ws + "/sparse 2>&1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("rotations: median 0.000 deg, max 0.000 deg"), std::string::npos)
+      << r.output;
   r = test::RunCommand(Exe() + " -q eval " + ws + " --gt " + out.string() + " 2>&1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("novel"), std::string::npos) << r.output;
