@@ -55,8 +55,8 @@ layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (worl
 const float kHalfPi = 1.5707963;
 const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
 
-// What a pixel shows: a surface point P with normal N (world), or, at infinity, the world
-// direction d (stored in P) of the pixel's ray.
+// What a pixel shows: a point P with normal N (world) on a surface or on the background
+// sphere, or, at infinity, the world direction d (stored in P) of the pixel's ray.
 struct Sample {
   vec3 P;
   vec3 N;
