@@ -53,11 +53,9 @@ CameraAccuracy CompareCameras(const ColmapModel& reconstruction, const ColmapMod
     throw UsageError("the ground-truth camera centres are collinear: no similarity to fit");
   }
   a.extent = bounds.Diagonal();
-  a.centre_median = a.alignment.median;
-  a.centre_max = a.alignment.max;
   const double unit = a.extent > 0 ? 100.0 / a.extent : 0.0;
-  a.centre_median_pct = a.centre_median * unit;
-  a.centre_max_pct = a.centre_max * unit;
+  a.centre_median_pct = a.alignment.median * unit;
+  a.centre_max_pct = a.alignment.max * unit;
   // A camera's cam_from_world rotation in the GT frame: R_rec * R_align^T.
   const Eigen::Quaterniond align(a.alignment.dst_from_src.rotation);
   std::vector<double> angles;
@@ -77,7 +75,7 @@ std::string FormatCameraAccuracy(const CameraAccuracy& a) {
                 "centres after similarity alignment: median %.4g (%.3f%%), max %.4g (%.3f%%) of "
                 "the GT camera extent %.4g\n"
                 "rotations: median %.3f deg, max %.3f deg\n",
-                a.matched, a.gt_images, a.centre_median, a.centre_median_pct, a.centre_max,
+                a.matched, a.gt_images, a.alignment.median, a.centre_median_pct, a.alignment.max,
                 a.centre_max_pct, a.extent, a.rotation_median_deg, a.rotation_max_deg);
   std::string s = buf;
   for (const std::string& name : a.missing) s += "not registered: " + name + "\n";

@@ -14,10 +14,11 @@ struct CameraAccuracy {
   int gt_images = 0;                 // photos with a ground-truth camera
   int matched = 0;                   // of those, registered in the reconstruction (by name)
   std::vector<std::string> missing;  // ground-truth photos the reconstruction lacks
-  SimilarityAlignment alignment;     // reconstruction centres onto ground-truth centres
-  double extent = 0;                 // diagonal of the GT centres' bounding box (GT units)
-  // Centre errors after alignment, in GT units, and in per cent of `extent`.
-  double centre_median = 0, centre_max = 0;
+  // Reconstruction centres onto ground-truth centres; its residuals are the centre errors
+  // after alignment, in GT units (median, max).
+  SimilarityAlignment alignment;
+  double extent = 0;  // diagonal of the GT centres' bounding box (GT units)
+  // alignment.median and alignment.max in per cent of `extent`.
   double centre_median_pct = 0, centre_max_pct = 0;
   // Angle between each GT rotation and the aligned reconstructed one, degrees.
   double rotation_median_deg = 0, rotation_max_deg = 0;

@@ -462,33 +462,40 @@ ColmapModel ReadColmapModelBinary(const fs::path& dir) {
   return ParseColmapModelBinary(cameras, images, points, dir);
 }
 
-ColmapModel ReadColmapModelText(const fs::path& dir) {
+namespace {
+
+// A TEXT model; without `with_points`, points3D.txt is not read (no point is then defined).
+ColmapModel ReadText(const fs::path& dir, bool with_points) {
   ColmapModel m;
   ParseCamerasText(ReadFileToString(dir / "cameras.txt"), dir / "cameras.txt", m);
   ParseImagesText(ReadFileToString(dir / "images.txt"), dir / "images.txt", m);
-  ParsePoints3DText(ReadFileToString(dir / "points3D.txt"), dir / "points3D.txt", m);
+  if (with_points) {
+    ParsePoints3DText(ReadFileToString(dir / "points3D.txt"), dir / "points3D.txt", m);
+  }
   CheckReferences(m, dir / "images.txt", dir / "points3D.txt");
   return m;
 }
 
-ColmapModel ReadColmapCameras(const fs::path& dir) {
+// Throws InputError unless `dir` is a folder.
+void CheckModelFolder(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {
     throw InputError(dir, fs::exists(dir, ec) ? "not a folder" : "no such model folder");
   }
+}
+
+}  // namespace
+
+ColmapModel ReadColmapModelText(const fs::path& dir) { return ReadText(dir, true); }
+
+ColmapModel ReadColmapCameras(const fs::path& dir) {
+  CheckModelFolder(dir);
   if (IsFile(dir / "points3D.txt") || IsFile(dir / "points3D.bin")) return ReadColmapModel(dir);
-  ColmapModel m;
-  ParseCamerasText(ReadFileToString(dir / "cameras.txt"), dir / "cameras.txt", m);
-  ParseImagesText(ReadFileToString(dir / "images.txt"), dir / "images.txt", m);
-  CheckReferences(m, dir / "images.txt", dir / "points3D.txt");
-  return m;
+  return ReadText(dir, false);
 }
 
 ColmapModel ReadColmapModel(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) {
-    throw InputError(dir, fs::exists(dir, ec) ? "not a folder" : "no such model folder");
-  }
+  CheckModelFolder(dir);
   const bool any_bin =
       IsFile(dir / "cameras.bin") || IsFile(dir / "images.bin") || IsFile(dir / "points3D.bin");
   const bool all_txt =

@@ -34,7 +34,9 @@ struct Renderer::Impl {
   gl::Texture response;  // 256 x 1 RGB32F g(Z), empty without a response curve
   std::vector<int> active;
   std::vector<int> uploaded;  // the blend pass's active list
-  PhotoCandidates candidates;
+  // Built at the first capped Render(): its sample and occlusion grids cost set-up time that
+  // renderers without a cap (max_candidates 0) never need.
+  std::optional<PhotoCandidates> candidates;
   FrameCandidates last;
   // Two sets of timestamp queries used in turn, so that a render loop reads a frame's times
   // when the next one is issued instead of stalling on them.
@@ -62,8 +64,7 @@ struct Renderer::Impl {
         depth_pass(shaders, WithPoints(options.depth)),
         textures(s, options.photo_images, options.max_photo_size),
         depth_maps(s, PrepareDepthPass(depth_pass, s), options.photo_depth_scale,
-                   options.depth_cache_dir),
-        candidates(s) {
+                   options.depth_cache_dir) {
     // The pixels were uploaded: do not keep a second copy of an HDR photo set in memory.
     options.photo_images.clear();
     options.photo_images.shrink_to_fit();
@@ -158,7 +159,6 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
                          ? camera
                          : camera.Scaled(target.width(), target.height());
   // The photos of this frame: the nearest one, the candidates or every active photo.
-  const auto t0 = std::chrono::steady_clock::now();
   m.last.active = static_cast<int>(m.active.size());
   m.last.select_ms = 0;
   if (m.options.blend.mode == BlendMode::kNearestPhoto) {
@@ -166,8 +166,10 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
     m.last.photos = best >= 0 ? std::vector<int>{best} : std::vector<int>{};
   } else if (m.options.max_candidates > 0 && !m.active.empty()) {
     const int ranked = RankedPhotosPerPixel(m.options.blend);
-    m.last.photos = m.candidates.Select(cam, cam_from_world, m.active, m.options.max_candidates,
-                                        ranked > 0 ? ranked : m.options.max_candidates);
+    if (!m.candidates) m.candidates.emplace(m.scene);
+    const auto t0 = std::chrono::steady_clock::now();
+    m.last.photos = m.candidates->Select(cam, cam_from_world, m.active, m.options.max_candidates,
+                                         ranked > 0 ? ranked : m.options.max_candidates);
     m.last.select_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   } else {

@@ -50,7 +50,7 @@ TEST(CameraAccuracy, ExactSimilarityGivesZeroErrors) {
   EXPECT_EQ(a.gt_images, 5);
   EXPECT_TRUE(a.missing.empty());
   EXPECT_NEAR(a.alignment.dst_from_src.scale, 1 / 2.5, 1e-9);
-  EXPECT_LT(a.centre_max, 1e-9);
+  EXPECT_LT(a.alignment.max, 1e-9);
   EXPECT_LT(a.rotation_max_deg, 1e-6);
   EXPECT_GT(a.extent, 1.0);
 }
@@ -71,15 +71,15 @@ TEST(CameraAccuracy, ErrorsAndMissingPhotosAreReported) {
   EXPECT_EQ(a.missing[0], "p4.jpg");
   EXPECT_NEAR(a.rotation_max_deg, 1.0, 1e-6);
   EXPECT_LT(a.rotation_median_deg, 1e-6);
-  EXPECT_LT(a.centre_max, 1e-9);  // the centre did not move
+  EXPECT_LT(a.alignment.max, 1e-9);  // the centre did not move
   EXPECT_NE(FormatCameraAccuracy(a).find("not registered: p4.jpg"), std::string::npos);
   // A shifted centre shows in the centre error, in per cent of the GT extent.
   ColmapImage& s = m.rec.images.at(11);
   const Eigen::Vector3d moved = s.cam_from_world.Inverse().translation + Eigen::Vector3d(0.5, 0, 0);
   s.cam_from_world.translation = -(s.cam_from_world.rotation * moved);
   const CameraAccuracy b = CompareCameras(m.rec, m.gt);
-  EXPECT_GT(b.centre_max, 0.01);
-  EXPECT_NEAR(b.centre_max_pct, 100 * b.centre_max / b.extent, 1e-9);
+  EXPECT_GT(b.alignment.max, 0.01);
+  EXPECT_NEAR(b.centre_max_pct, 100 * b.alignment.max / b.extent, 1e-9);
 }
 
 TEST(CameraAccuracy, TooFewMatchesIsAUsageError) {
