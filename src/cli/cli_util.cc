@@ -12,7 +12,8 @@ const FlagNames& CaptureFlags() {
   static const FlagNames flags = {{"series", "--series"},     {"views", "--views"},
                                   {"novel_views", "--novel"}, {"ev_step", "--ev-step"},
                                   {"threads", "--threads"},   {"toe", "--toe"},
-                                  {"width", "--size width"},  {"height", "--size height"}};
+                                  {"width", "--size width"},  {"height", "--size height"},
+                                  {"exposure", "--exposure"}, {"exif_error", "--exif-error"}};
   return flags;
 }
 

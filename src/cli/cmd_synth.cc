@@ -130,6 +130,13 @@ CommandRunner SetupSynth(CLI::App& sub) {
   sub.add_option("--novel", opt->capture.novel_views, "Ground-truth novel test views")
       ->capture_default_str();
   sub.add_option("--ev-step", opt->capture.ev_step, "Stops between series")->capture_default_str();
+  sub.add_option("--exposure", opt->capture.exposure,
+                 "series: one exposure per series; auto: each photo metered on its view, biased "
+                 "by its series' offset, EXIF rounded to 1/3 stop")
+      ->capture_default_str();
+  sub.add_option("--exif-error", opt->capture.exif_error,
+                 "Std. dev. of ln(true / EXIF exposure time), per photo (0.05 = about 5 %)")
+      ->capture_default_str();
   sub.add_option("--toe", opt->capture.toe,
                  "Camera response: end of its linear toe, share of saturation (0 = pure power law)")
       ->capture_default_str();

@@ -91,6 +91,32 @@ void WriteViewTruth(const fs::path& dir, const std::string& stem, const Rendered
   WriteExr(dir / "depth" / (stem + ".exr"), view.depth, ExrPixel::kFloat, "Z");
 }
 
+// Auto exposure: each photo's EXIF time puts the geometric mean luminance of its view (metered
+// on a 80-pixel-wide render) at kMeterKey of saturation, times 2^(its series' offset), rounded
+// to the nearest 1/3 stop.
+void MeterExposures(CapturePlan& plan) {
+  constexpr double kMeterKey = 0.18;
+  const CaptureOptions& o = plan.options;
+  const int mw = std::min(80, o.width);
+  const int mh = std::max(1, static_cast<int>(std::lround(double(mw) * o.height / o.width)));
+  const Camera meter = plan.camera.Scaled(mw, mh);
+  RenderOptions ro;
+  ro.threads = o.threads;
+  for (PlannedView& v : plan.photos) {
+    const cv::Mat lum = Luminance(RenderView(plan.scene, meter, v.cam_from_world, ro).radiance);
+    double sum_log = 0;
+    for (int y = 0; y < lum.rows; ++y) {
+      for (int x = 0; x < lum.cols; ++x) sum_log += std::log(std::max(lum.at<float>(y, x), 1e-6f));
+    }
+    const double mean_lum = std::exp(sum_log / lum.total());
+    const double bias_ev = o.ev_step * (v.series - 0.5 * (o.series - 1));
+    const double t = kMeterKey * plan.response.x_sat / mean_lum * std::pow(2.0, bias_ev);
+    // Shutter speeds below a second are written as 1/n, like cameras do.
+    const double third_stop = std::exp2(std::round(3 * std::log2(t)) / 3);
+    v.exif_time_s = third_stop < 1 ? 1.0 / std::round(1.0 / third_stop) : third_stop;
+  }
+}
+
 }  // namespace
 
 CapturePlan PlanCapture(const CaptureOptions& o) {
@@ -108,6 +134,12 @@ CapturePlan PlanCapture(const CaptureOptions& o) {
     throw OptionError("jpeg_quality", "must be in [1, 100]");
   if (!(o.toe >= 0 && o.toe <= 0.1)) {
     throw OptionError("toe", "must be in [0, 0.1] (0 = a pure power law down to black)");
+  }
+  if (o.exposure != "series" && o.exposure != "auto") {
+    throw OptionError("exposure", "must be series or auto, got '" + o.exposure + "'");
+  }
+  if (!(o.exif_error >= 0 && o.exif_error <= 0.5)) {
+    throw OptionError("exif_error", "must be in [0, 0.5] (a standard deviation in ln t)");
   }
   CapturePlan plan;
   plan.options = o;
@@ -136,15 +168,21 @@ CapturePlan PlanCapture(const CaptureOptions& o) {
       const double roll = rng.Uniform(-3, 3) * kDeg;
       char name[64];
       std::snprintf(name, sizeof(name), "s%d_v%02d.jpg", s, v);
-      plan.photos.push_back({name, id++, s, t, ArcCamera(plan.scene, az, dist, height, aim, roll)});
+      plan.photos.push_back(
+          {name, id++, s, t, t, ArcCamera(plan.scene, az, dist, height, aim, roll)});
     }
+  }
+  if (o.exposure == "auto") MeterExposures(plan);
+  SplitMix64 exif_rng(Mix(o.seed, 2));
+  for (PlannedView& v : plan.photos) {
+    v.exposure_time_s = v.exif_time_s * std::exp(o.exif_error * exif_rng.Gaussian());
   }
   // Novel views: a steadier, slightly closer and lower arc inside the captured one.
   for (int k = 0; k < o.novel_views; ++k) {
     const double az = o.novel_views == 1 ? 0.0 : (-50 + 100.0 * k / (o.novel_views - 1)) * kDeg;
     char name[64];
     std::snprintf(name, sizeof(name), "novel_%02d", k);
-    plan.novel.push_back({name, k + 1, -1, std::ldexp(1.0, -7),
+    plan.novel.push_back({name, k + 1, -1, std::ldexp(1.0, -7), std::ldexp(1.0, -7),
                           ArcCamera(plan.scene, az, 1.9 * plan.scene.size, 0.75 * plan.scene.size,
                                     Vector3d::Zero(), 0.0)});
   }
@@ -230,7 +268,7 @@ CaptureSummary WriteCapture(const CaptureOptions& options, const fs::path& out) 
         RenderView(plan.scene, plan.camera, v.cam_from_world, ro));
     render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ExifInfo exif;
-    exif.exposure.time_s = v.exposure_time_s;
+    exif.exposure.time_s = v.exif_time_s;
     exif.exposure.iso = plan.iso;
     exif.exposure.f_number = plan.f_number;
     exif.exposure.focal_mm = plan.focal_mm;
@@ -276,16 +314,23 @@ CaptureSummary WriteCapture(const CaptureOptions& options, const fs::path& out) 
   WritePly(tmp / "workspace/points.ply", sampler.cloud(), true);
   WriteResponseCurve(tmp / "calib/response.json", response.Curve());
 
-  std::vector<ExposureSeries> series(static_cast<size_t>(options.series));
-  for (int s = 0; s < options.series; ++s) {
-    series[s].id = s;
-    series[s].name = "series" + std::to_string(s);
-    series[s].relative_exposure =
-        photos[static_cast<size_t>(s * options.views)].exposure.Relative();
-    for (int v = 0; v < options.views; ++v)
-      series[s].photo_indices.push_back(s * options.views + v);
+  // Fixed exposures: the capture's series. Auto exposure: the photos as their EXIF groups them
+  // (what `reconstruct` finds in the same photos).
+  std::vector<ExposureSeries> series;
+  if (options.exposure == "auto") {
+    series = GroupByExposure(photos);
+  } else {
+    series.resize(static_cast<size_t>(options.series));
+    for (int s = 0; s < options.series; ++s) {
+      series[s].id = s;
+      series[s].name = "series" + std::to_string(s);
+      series[s].relative_exposure =
+          photos[static_cast<size_t>(s * options.views)].exposure.Relative();
+      for (int v = 0; v < options.views; ++v)
+        series[s].photo_indices.push_back(s * options.views + v);
+    }
+    for (size_t i = 0; i < photos.size(); ++i) photos[i].series_id = plan.photos[i].series;
   }
-  for (size_t i = 0; i < photos.size(); ++i) photos[i].series_id = plan.photos[i].series;
   WriteSeriesJson(tmp / "workspace/series.json", series, photos);
 
   CaptureSummary summary;
@@ -307,16 +352,26 @@ CaptureSummary WriteCapture(const CaptureOptions& options, const fs::path& out) 
   j["width"] = options.width;
   j["height"] = options.height;
   j["ev_step"] = options.ev_step;
+  j["exposure"] = options.exposure;
+  j["exif_error"] = options.exif_error;
   j["jpeg_quality"] = options.jpeg_quality;
   j["iso"] = plan.iso;
   j["f_number"] = plan.f_number;
   j["focal_mm"] = plan.focal_mm;
   j["sensor_width_mm"] = kSensorWidthMm;
-  nlohmann::json times = nlohmann::json::array();
-  for (int s = 0; s < options.series; ++s) {
-    times.push_back(plan.photos[static_cast<size_t>(s * options.views)].exposure_time_s);
+  if (options.exposure == "series") {
+    nlohmann::json times = nlohmann::json::array();
+    for (int s = 0; s < options.series; ++s) {
+      times.push_back(plan.photos[static_cast<size_t>(s * options.views)].exif_time_s);
+    }
+    j["exposure_times_s"] = times;
   }
-  j["exposure_times_s"] = times;
+  nlohmann::json per_photo = nlohmann::json::array();
+  for (const PlannedView& v : plan.photos) {
+    per_photo.push_back(
+        {{"name", v.name}, {"exif_time_s", v.exif_time_s}, {"exposure_time_s", v.exposure_time_s}});
+  }
+  j["photos"] = per_photo;
   j["response"] = {{"model",
                     "z = 255 h(s(x)), s(x) = phi x below x = toe, (1 + a) x^(1/gamma) - a above "
                     "(value and slope continuous), h(y) = y (1 + k) / (y + k), x = X / x_sat"},

@@ -23,6 +23,12 @@ struct CaptureOptions {
   std::uint64_t seed = 1;
   int novel_views = 8;   // ground-truth test views (gt/novel/)
   double ev_step = 2.0;  // stops between consecutive series
+  // "series": one fixed exposure per series; "auto": every photo metered on its own view (mean
+  // log luminance), biased by its series' offset (auto-exposure bracketing), recorded in EXIF
+  // rounded to 1/3 stop as cameras do.
+  std::string exposure = "series";
+  // Standard deviation of ln(true exposure time / EXIF exposure time), drawn per photo.
+  double exif_error = 0;
   int jpeg_quality = 95;
   int threads = 0;  // 0 = hardware concurrency
   // End of the camera response's linear toe (SyntheticResponse::toe; 0 = pure power law).
@@ -31,10 +37,11 @@ struct CaptureOptions {
 
 // One planned photo or novel view.
 struct PlannedView {
-  std::string name;  // file name: "s0_v03.jpg" (photos) or "novel_02" (novel views)
-  int image_id = 0;  // COLMAP image id (1-based)
-  int series = -1;   // -1 for novel views
-  double exposure_time_s = 0;
+  std::string name;            // file name: "s0_v03.jpg" (photos) or "novel_02" (novel views)
+  int image_id = 0;            // COLMAP image id (1-based)
+  int series = -1;             // -1 for novel views
+  double exposure_time_s = 0;  // the true exposure time the photo was exposed with
+  double exif_time_s = 0;      // the exposure time written to its EXIF
   Rigid3d cam_from_world;
 };
 

@@ -372,8 +372,62 @@ TEST(CaptureInput, RefusesANonEmptyOutputAndBadOptions) {
   o.ev_step = 2.0;
   o.threads = -1;
   EXPECT_THROW(WriteCapture(o, tmp / "new"), UsageError);
+  o.threads = 0;
+  o.exposure = "manual";
+  EXPECT_THROW(WriteCapture(o, tmp / "new"), UsageError);
+  o.exposure = "auto";
+  for (double e : {-0.01, 0.6, std::nan("")}) {
+    o.exif_error = e;
+    EXPECT_THROW(WriteCapture(o, tmp / "new"), UsageError) << e;
+  }
   // Only the pre-existing folder remains: no partial outputs.
   EXPECT_EQ(std::distance(fs::directory_iterator(tmp), fs::directory_iterator()), 1);
+}
+
+// Auto exposure: every photo metered on its own view, EXIF at a 1/n shutter speed on the
+// 1/3-stop grid, the true time off by exif_error, everything recorded in capture.json.
+TEST(AutoExposure, MetersEveryPhotoAndRecordsTheTruth) {
+  CaptureOptions o = SmallOptions();
+  o.width = 96;
+  o.height = 72;
+  o.novel_views = 0;
+  o.exposure = "auto";
+  o.exif_error = 0.05;
+  const CapturePlan plan = PlanCapture(o);
+  ASSERT_EQ(plan.photos.size(), 9u);
+  double lo = HUGE_VAL, hi = 0, sum_sq = 0;
+  for (const PlannedView& v : plan.photos) {
+    const double n = 1.0 / v.exif_time_s;
+    EXPECT_NEAR(n, std::round(n), 1e-9 * n) << v.name;  // 1/n s
+    const double thirds = 3 * std::log2(v.exif_time_s);
+    EXPECT_NEAR(thirds, std::round(thirds), 0.1) << v.name;  // 1/3 stop, up to the 1/n rounding
+    const double err = std::log(v.exposure_time_s / v.exif_time_s);
+    EXPECT_LT(std::abs(err), 4 * o.exif_error) << v.name;
+    sum_sq += err * err;
+    lo = std::min(lo, v.exif_time_s);
+    hi = std::max(hi, v.exif_time_s);
+  }
+  EXPECT_GT(std::sqrt(sum_sq / plan.photos.size()), 0.3 * o.exif_error);
+  EXPECT_NEAR(std::log2(hi / lo), 2 * o.ev_step, 1.0);  // bracketing offsets of +-1 series
+
+  const fs::path dir = test::TempDir("synth_auto") / "capture";
+  WriteCapture(o, dir);
+  const nlohmann::json j =
+      nlohmann::json::parse(std::ifstream(dir / "gt/capture.json", std::ios::binary));
+  EXPECT_EQ(j["exposure"], "auto");
+  EXPECT_FALSE(j.contains("exposure_times_s"));
+  ASSERT_EQ(j["photos"].size(), plan.photos.size());
+  for (size_t i = 0; i < plan.photos.size(); ++i) {
+    const auto& p = j["photos"][i];
+    ASSERT_EQ(p["name"], plan.photos[i].name);
+    EXPECT_DOUBLE_EQ(p["exposure_time_s"].get<double>(), plan.photos[i].exposure_time_s);
+    const ExifInfo exif = ReadExif(dir / "photos" / plan.photos[i].name);
+    ASSERT_TRUE(exif.exposure.time_s.has_value());
+    EXPECT_NEAR(*exif.exposure.time_s, plan.photos[i].exif_time_s, 1e-12);
+  }
+  // The workspace's series are the EXIF groups, darkest first.
+  const Scene scene = LoadWorkspace(dir / "workspace");
+  EXPECT_GE(scene.series.size(), 3u);
 }
 
 }  // namespace
