@@ -111,17 +111,6 @@ cv::Mat LocalContrast(const ExposureStack& stack) {
 // One channel's sample: its value in every image of the stack.
 using SampleValues = std::vector<uint8_t>;
 
-// The smoothness term's second difference at k as coefficients of g(k-1), g(k), g(k+1). In
-// u = ln(k + 0.5) it is the difference of the slopes dg/du on either side times the mean step,
-// so that it is (1, -2, 1) where the steps are equal (large k) and lambda keeps its scale.
-std::array<double, 3> SecondDifference(int k, CalibrationOptions::Smoothness axis) {
-  if (axis == CalibrationOptions::Smoothness::kCode) return {1.0, -2.0, 1.0};
-  const double h1 = std::log((k + 0.5) / (k - 0.5));
-  const double h2 = std::log((k + 1.5) / (k + 0.5));
-  const double mean = 0.5 * (h1 + h2);
-  return {mean / h1, -mean / h1 - mean / h2, mean / h2};
-}
-
 // Debevec's least squares for one channel with g(128) = 0, over the samples flagged in `use`.
 // Returns false when the system cannot be solved.
 bool SolveChannel(const std::vector<SampleValues>& samples, const std::vector<char>& use,
@@ -159,7 +148,7 @@ bool SolveChannel(const std::vector<SampleValues>& samples, const std::vector<ch
   for (int k = 1; k + 1 < kLevels; ++k) {
     const double s = options.lambda * options.lambda * HatWeight(k) * HatWeight(k);
     const int idx[3] = {k - 1, k, k + 1};
-    const std::array<double, 3> d = SecondDifference(k, options.smoothness);
+    const std::array<double, 3> d = SmoothnessStencil(k, options.smoothness);
     for (int u = 0; u < 3; ++u) {
       for (int v = 0; v < 3; ++v) hess(idx[u], idx[v]) += s * d[u] * d[v];
     }
@@ -213,6 +202,17 @@ void TrimWorst(const std::vector<double>& residual, const std::vector<int>& grou
 }  // namespace
 
 double HatWeight(int z) { return std::min(z, 255 - z); }
+
+// The smoothness term's second difference at k as coefficients of g(k-1), g(k), g(k+1). In
+// u = ln(k + 0.5) it is the difference of the slopes dg/du on either side times the mean step,
+// so that it is (1, -2, 1) where the steps are equal (large k) and lambda keeps its scale.
+std::array<double, 3> SmoothnessStencil(int k, CalibrationOptions::Smoothness axis) {
+  if (axis == CalibrationOptions::Smoothness::kCode) return {1.0, -2.0, 1.0};
+  const double h1 = std::log((k + 0.5) / (k - 0.5));
+  const double h2 = std::log((k + 1.5) / (k + 0.5));
+  const double mean = 0.5 * (h1 + h2);
+  return {mean / h1, -mean / h1 - mean / h2, mean / h2};
+}
 
 CalibrationOptions PlainDebevec(CalibrationOptions options) {
   options.smoothness = CalibrationOptions::Smoothness::kCode;

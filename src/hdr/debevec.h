@@ -41,6 +41,10 @@ struct CalibrationOptions {
 // sample, a single solve (lambda and samples kept).
 CalibrationOptions PlainDebevec(CalibrationOptions options = {});
 
+// The smoothness term's second difference at code k (1..254) as coefficients of g(k-1), g(k),
+// g(k+1): (1, -2, 1) in z (Debevec's g''), or in u = ln(z + 0.5) scaled by the mean step.
+std::array<double, 3> SmoothnessStencil(int k, CalibrationOptions::Smoothness axis);
+
 struct CalibrationStats {
   std::array<int, 3> samples_used{};    // samples well exposed in >= 2 images, kept after trim
   std::array<int, 3> monotone_fixes{};  // entries raised/lowered to keep g non-decreasing

@@ -1,0 +1,682 @@
+#include "hdr/multiview_calibration.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <string>
+
+#include "core/error.h"
+
+namespace hdribr {
+namespace {
+
+constexpr int kLevels = 256;
+constexpr int kMid = 128;  // g_c(kMid) = 0 fixes each curve's additive constant
+constexpr int kCurveVars = 3 * (kLevels - 1);
+constexpr double kMidWeight = 127.0;  // HatWeight of a mid-grey value
+// Minimum spread (natural log, max - min) of the prior log exposures for them to fix the
+// exponent shared by g and ln t; below it the exponent comes from assumed_log_span.
+constexpr double kMinPriorSpread = 0.1;
+// Minimum spread of the solved log exposures when no prior fixes them: photos all exposed
+// alike cannot constrain a curve.
+constexpr double kMinSolvedSpread = 0.1;
+
+// Index of g_c(z) among the unknowns; -1 for the gauge g_c(128) = 0.
+int CurveVar(int c, int z) {
+  if (z == kMid) return -1;
+  return c * (kLevels - 1) + (z < kMid ? z : z - 1);
+}
+
+// sRGB's g(192) - g(64): the natural log of the ratio of the linear values of those codes.
+double SrgbLogSpan() {
+  const auto decode = [](double v) { return std::pow((v + 0.055) / 1.055, 2.4); };
+  return std::log(decode(192.0 / 255.0) / decode(64.0 / 255.0));
+}
+
+// Channel observations grouped by (sample, channel): one group per scene radiance E_jc.
+struct Groups {
+  std::vector<int> begin{0};  // observations of group k: [begin[k], begin[k + 1])
+  std::vector<int> channel;   // per group
+  std::vector<int> sample;    // per group: index of its sample (non-decreasing)
+  std::vector<int> photo;     // per observation
+  std::vector<int> z;         // per observation
+  int size() const { return static_cast<int>(channel.size()); }
+};
+
+// The groups whose observations (values in (margin, 255 - margin)) come from >= 2 distinct
+// photos with keep[photo].
+Groups BuildGroups(const std::vector<MultiViewSample>& samples, int margin,
+                   const std::vector<char>& keep) {
+  Groups groups;
+  for (size_t j = 0; j < samples.size(); ++j) {
+    const MultiViewSample& sample = samples[j];
+    for (int c = 0; c < 3; ++c) {
+      const size_t start = groups.photo.size();
+      for (const MultiViewObservation& o : sample.observations) {
+        const int z = o.bgr[c];
+        if (z <= margin || z >= 255 - margin || !keep[o.photo]) continue;
+        groups.photo.push_back(o.photo);
+        groups.z.push_back(z);
+      }
+      bool distinct = false;
+      for (size_t k = start + 1; k < groups.photo.size(); ++k) {
+        distinct = distinct || groups.photo[k] != groups.photo[start];
+      }
+      if (distinct) {
+        groups.channel.push_back(c);
+        groups.sample.push_back(static_cast<int>(j));
+        groups.begin.push_back(static_cast<int>(groups.photo.size()));
+      } else {
+        groups.photo.resize(start);
+        groups.z.resize(start);
+      }
+    }
+  }
+  return groups;
+}
+
+// Root of i in a union-find forest (with path halving).
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Photos whose exposures the observations fix together: the connected component (photos
+// linked by shared groups) with the most observations.
+std::vector<char> SolvablePhotos(const Groups& groups, int photos) {
+  std::vector<int> parent(photos);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<int> count(photos, 0);
+  for (int k = 0; k < groups.size(); ++k) {
+    const int first = groups.photo[groups.begin[k]];
+    for (int o = groups.begin[k]; o < groups.begin[k + 1]; ++o) {
+      parent[Find(parent, groups.photo[o])] = Find(parent, first);
+      ++count[groups.photo[o]];
+    }
+  }
+  std::vector<long> root_count(photos, 0);
+  for (int i = 0; i < photos; ++i) root_count[Find(parent, i)] += count[i];
+  const int largest =
+      static_cast<int>(std::max_element(root_count.begin(), root_count.end()) - root_count.begin());
+  std::vector<char> solvable(photos, 0);
+  for (int i = 0; i < photos; ++i) solvable[i] = count[i] > 0 && Find(parent, i) == largest;
+  return solvable;
+}
+
+// How the solve fixes the exposures' common factor and the exponent shared by g and ln t.
+struct Gauge {
+  bool exponent_from_prior = false;  // else from MultiViewOptions::assumed_log_span
+  std::vector<int> prior_photos;     // solved photos with a prior
+  double mean_prior = 0.0;           // mean prior over them (0 without)
+};
+
+// One least-squares problem: unknowns g (kCurveVars) then ln t of the solved photos.
+class Solver {
+ public:
+  Solver(const Groups& groups, const std::vector<double>& prior, const std::vector<int>& slot,
+         int solved, const MultiViewOptions& options, const Gauge& gauge)
+      : groups_(groups),
+        prior_(prior),
+        slot_(slot),
+        options_(options),
+        gauge_(gauge),
+        n_(kCurveVars + solved) {}
+
+  // The data and smoothness part of the normal equations (right-hand side 0) for the
+  // observation weights `robust` (in [0, 1], per observation).
+  Eigen::MatrixXd Assemble(const std::vector<double>& robust) const {
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n_, n_);
+    AddData(robust, h);
+    AddSmoothness(h);
+    return h;
+  }
+
+  // Solves `base` plus the gauge (mean over channels of g(192) - g(64) = span) and, with
+  // `use_prior`, each photo's prior. Returns false when there is no finite solution.
+  bool Solve(const Eigen::MatrixXd& base, double span, bool use_prior, Eigen::VectorXd& x) const {
+    Eigen::MatrixXd h = base;
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n_);
+    if (use_prior) AddPrior(h, b);
+    AddGauge(span, h, b);
+    const Eigen::LLT<Eigen::MatrixXd> llt(h);  // blocked: several times faster than LDLT
+    if (llt.info() == Eigen::Success) {
+      x = llt.solve(b);
+      if (x.allFinite()) return true;
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(h);
+    x = ldlt.solve(b);
+    return ldlt.info() == Eigen::Success && x.allFinite();
+  }
+
+  int TimeVar(int photo) const { return kCurveVars + slot_[photo]; }
+
+  // g_c(z) from a solution (0 at the gauge).
+  static double Curve(const Eigen::VectorXd& x, int c, int z) {
+    const int v = CurveVar(c, z);
+    return v < 0 ? 0.0 : x(v);
+  }
+
+ private:
+  // Debevec's data term sum a_o (g_c(z_o) - ln t_o - ln E)^2 per group, a_o = w(z_o)^2 x robust
+  // weight, with ln E eliminated (Schur complement): sum a l l^T - (sum a l)(sum a l)^T / A for
+  // l_o the coefficient vector of g_c(z_o) - ln t_o. The right-hand side is 0.
+  void AddData(const std::vector<double>& robust, Eigen::MatrixXd& h) const {
+    std::vector<std::pair<int, double>> s;
+    for (int k = 0; k < groups_.size(); ++k) {
+      const int c = groups_.channel[k];
+      double total = 0;
+      s.clear();
+      for (int o = groups_.begin[k]; o < groups_.begin[k + 1]; ++o) {
+        const double w = HatWeight(groups_.z[o]);
+        const double a = w * w * robust[o];
+        if (a <= 0) continue;
+        total += a;
+        const int g = CurveVar(c, groups_.z[o]);
+        const int t = TimeVar(groups_.photo[o]);
+        h(t, t) += a;
+        if (g >= 0) {
+          h(g, g) += a;
+          h(g, t) -= a;
+          h(t, g) -= a;
+          s.emplace_back(g, a);
+        }
+        s.emplace_back(t, -a);
+      }
+      if (total <= 0) continue;
+      for (const auto& [i, ai] : s) {
+        const double f = ai / total;
+        for (const auto& [j, aj] : s) h(i, j) -= f * aj;
+      }
+    }
+  }
+
+  // lambda w(k) D(g_c)(k) = 0 for k = 1..254 (Debevec's equation 3, second sum).
+  void AddSmoothness(Eigen::MatrixXd& h) const {
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 1; k + 1 < kLevels; ++k) {
+        const double s = options_.lambda * options_.lambda * HatWeight(k) * HatWeight(k);
+        const std::array<double, 3> d = SmoothnessStencil(k, options_.smoothness);
+        for (int u = 0; u < 3; ++u) {
+          const int iu = CurveVar(c, k - 1 + u);
+          if (iu < 0) continue;
+          for (int v = 0; v < 3; ++v) {
+            const int iv = CurveVar(c, k - 1 + v);
+            if (iv >= 0) h(iu, iv) += s * d[u] * d[v];
+          }
+        }
+      }
+    }
+  }
+
+  // Each photo's own prior: (observation_sigma / prior_sigma) w_mid (ln t - prior) = 0.
+  void AddPrior(Eigen::MatrixXd& h, Eigen::VectorXd& b) const {
+    const double ratio = options_.observation_sigma / options_.prior_sigma;
+    const double weight = kMidWeight * kMidWeight * ratio * ratio;
+    for (int i : gauge_.prior_photos) {
+      h(TimeVar(i), TimeVar(i)) += weight;
+      b(TimeVar(i)) += weight * prior_[i];
+    }
+  }
+
+  // Constraints a^T x = beta (|a| = 1) added with a weight far above the data's, fixing the
+  // directions the data leave free: the exposures' common factor (their mean over the photos
+  // with a prior is the prior's, else their mean is 0) and the exponent shared by g and ln t
+  // (g -> k g, ln t -> k ln t: the mean over channels of g(192) - g(64) is `span`).
+  void AddGauge(double span, Eigen::MatrixXd& h, Eigen::VectorXd& b) const {
+    const double heavy = 1e4 * std::max(1.0, h.diagonal().maxCoeff());
+    const auto add = [&](const std::vector<std::pair<int, double>>& a, double beta) {
+      const double norm2 = static_cast<double>(a.size());  // entries are +-1
+      for (const auto& [i, ai] : a) {
+        b(i) += heavy * ai * beta / norm2;
+        for (const auto& [j, aj] : a) h(i, j) += heavy * ai * aj / norm2;
+      }
+    };
+    std::vector<std::pair<int, double>> a;
+    if (!gauge_.prior_photos.empty()) {
+      for (int i : gauge_.prior_photos) a.emplace_back(TimeVar(i), 1.0);
+    } else {
+      for (int i = 0; i < static_cast<int>(slot_.size()); ++i) {
+        if (slot_[i] >= 0) a.emplace_back(TimeVar(i), 1.0);
+      }
+    }
+    add(a, gauge_.mean_prior * static_cast<double>(a.size()));
+    a.clear();
+    for (int c = 0; c < 3; ++c) {
+      a.emplace_back(CurveVar(c, 192), 1.0);
+      a.emplace_back(CurveVar(c, 64), -1.0);
+    }
+    add(a, 3.0 * span);
+    // A tiny ridge keeps codes no equation reaches (lambda = 0) from making h singular.
+    h.diagonal().array() += 1e-12 * std::max(1.0, h.diagonal().maxCoeff());
+  }
+
+  const Groups& groups_;
+  const std::vector<double>& prior_;
+  const std::vector<int>& slot_;
+  const MultiViewOptions& options_;
+  const Gauge& gauge_;
+  const int n_;
+};
+
+// Residuals g_c(z_o) - ln t_o - ln E of every observation, ln E the group's weighted mean.
+std::vector<double> Residuals(const Groups& groups, const Solver& solver,
+                              const std::vector<double>& robust, const Eigen::VectorXd& x) {
+  std::vector<double> r(groups.photo.size(), 0.0);
+  for (int k = 0; k < groups.size(); ++k) {
+    const int c = groups.channel[k];
+    double total = 0, sum = 0;
+    for (int o = groups.begin[k]; o < groups.begin[k + 1]; ++o) {
+      r[o] = Solver::Curve(x, c, groups.z[o]) - x(solver.TimeVar(groups.photo[o]));
+      const double w = HatWeight(groups.z[o]);
+      total += w * w * robust[o];
+      sum += w * w * robust[o] * r[o];
+    }
+    const double log_e = total > 0 ? sum / total : 0.0;
+    for (int o = groups.begin[k]; o < groups.begin[k + 1]; ++o) r[o] -= log_e;
+  }
+  return r;
+}
+
+// Robust scale of rho = w(z) r: 1.4826 x the median |rho|.
+double RobustScale(const Groups& groups, const std::vector<double>& r) {
+  std::vector<double> rho(r.size());
+  for (size_t o = 0; o < r.size(); ++o) rho[o] = std::abs(HatWeight(groups.z[o]) * r[o]);
+  if (rho.empty()) return 0.0;
+  const auto mid = rho.begin() + static_cast<long>(rho.size() / 2);
+  std::nth_element(rho.begin(), mid, rho.end());
+  return 1.4826 * *mid;
+}
+
+// Throws OptionError naming the first option no computation can use.
+void ValidateOptions(const MultiViewOptions& o) {
+  if (!std::isfinite(o.lambda) || o.lambda < 0) {
+    throw OptionError("lambda", "must be a non-negative number");
+  }
+  if (o.clip_margin < 0 || o.clip_margin > 126) {
+    throw OptionError("clip_margin", "must be in 0..126");
+  }
+  if (!(o.prior_sigma > 0) || !std::isfinite(o.prior_sigma)) {
+    throw OptionError("prior_sigma", "must be a positive number");
+  }
+  if (!(o.observation_sigma > 0) || !std::isfinite(o.observation_sigma)) {
+    throw OptionError("observation_sigma", "must be a positive number");
+  }
+  if (o.robust_rounds < 0) throw OptionError("robust_rounds", "must be >= 0");
+  if (!(o.cauchy_scale > 0) || !std::isfinite(o.cauchy_scale)) {
+    throw OptionError("cauchy_scale", "must be a positive number");
+  }
+  if (!(o.trim_scale > 0)) throw OptionError("trim_scale", "must be a positive number");
+  if (!(o.assumed_log_span >= 0) || !std::isfinite(o.assumed_log_span)) {
+    throw OptionError("assumed_log_span", "must be a non-negative number");
+  }
+}
+
+// The photo count: the prior's size, or one past the largest index observed.
+int PhotoCount(const std::vector<MultiViewSample>& samples, const std::vector<double>& prior) {
+  int largest = -1;
+  for (const MultiViewSample& s : samples) {
+    for (const MultiViewObservation& o : s.observations) {
+      if (o.photo < 0 || (!prior.empty() && o.photo >= static_cast<int>(prior.size()))) {
+        throw UsageError("multi-view calibration: observation of photo " + std::to_string(o.photo) +
+                         " outside the " + std::to_string(prior.size()) +
+                         " photos of the exposure prior");
+      }
+      largest = std::max(largest, o.photo);
+    }
+  }
+  return prior.empty() ? largest + 1 : static_cast<int>(prior.size());
+}
+
+// Clamps g outward from the fixed middle so that it is non-decreasing; returns the changes.
+int MakeMonotone(std::vector<double>& g) {
+  int fixes = 0;
+  for (int k = kMid + 1; k < kLevels; ++k) {
+    if (g[k] < g[k - 1]) g[k] = g[k - 1], ++fixes;
+  }
+  for (int k = kMid - 1; k >= 0; --k) {
+    if (g[k] > g[k + 1]) g[k] = g[k + 1], ++fixes;
+  }
+  return fixes;
+}
+
+// Slope of the least-squares line prior ~ slope x ln t + offset over the prior photos.
+double PriorSlope(const Solver& solver, const Gauge& gauge, const std::vector<double>& prior,
+                  const Eigen::VectorXd& x) {
+  const double n = static_cast<double>(gauge.prior_photos.size());
+  double mean_t = 0;
+  for (int i : gauge.prior_photos) mean_t += x(solver.TimeVar(i)) / n;
+  double sxy = 0, sxx = 0;
+  for (int i : gauge.prior_photos) {
+    const double dt = x(solver.TimeVar(i)) - mean_t;
+    sxy += dt * (prior[i] - gauge.mean_prior);
+    sxx += dt * dt;
+  }
+  return sxx > 0 ? sxy / sxx : 0.0;
+}
+
+// One least-squares fit for the weights `robust`. With exponent_from_prior, the exponent
+// (`span`, the mean g(192) - g(64)) is then scaled by the slope of the prior against the
+// solved log exposures and the system solved again, until the slope is 1: the data term and
+// the smoothness are homogeneous in (g, ln t, ln E), so scaling the span scales the fit, and
+// the prior sets the scale by regression on the data's exposures. The first solve of the first
+// round leaves out the photos' own priors (made for exposures at the prior's scale).
+// Throws UsageError when the system has no finite solution or the prior contradicts the data.
+void SolveRound(const Solver& solver, const Gauge& gauge, const std::vector<double>& prior,
+                const std::vector<double>& robust, bool first, double& span, Eigen::VectorXd& x,
+                int& solves) {
+  const Eigen::MatrixXd base = solver.Assemble(robust);
+  constexpr int kMaxSolves = 6;
+  for (int k = 0; k < kMaxSolves; ++k) {
+    const bool use_prior = gauge.exponent_from_prior && !(first && k == 0);
+    Eigen::VectorXd next;
+    if (!solver.Solve(base, span, use_prior, next)) {
+      if (x.size() > 0) return;  // keep the previous fit
+      throw UsageError(
+          "multi-view calibration: the least-squares system has no finite solution (too few "
+          "observations; try a larger smoothness weight lambda)");
+    }
+    x = next;
+    ++solves;
+    if (!gauge.exponent_from_prior) return;
+    const double slope = PriorSlope(solver, gauge, prior, x);
+    if (!(slope > 0.05 && slope < 20)) {
+      throw UsageError(
+          "multi-view calibration: the exposure prior contradicts the observations (the "
+          "photos' prior exposures do not grow with the exposures the pixel values show)");
+    }
+    span *= slope;
+    if (std::abs(slope - 1.0) < 1e-4) return;
+  }
+}
+
+}  // namespace
+
+MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samples,
+                                        const std::vector<double>& prior_log_exposure,
+                                        const MultiViewOptions& options) {
+  ValidateOptions(options);
+  const int photos = PhotoCount(samples, prior_log_exposure);
+  if (photos < 2) {
+    throw UsageError("multi-view calibration needs observations from at least two photos");
+  }
+  std::vector<double> prior(photos, std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < prior_log_exposure.size(); ++i) {
+    if (std::isfinite(prior_log_exposure[i])) prior[i] = prior_log_exposure[i];
+  }
+  const Groups linked = BuildGroups(samples, options.clip_margin, std::vector<char>(photos, 1));
+  if (linked.size() == 0) {
+    throw UsageError(
+        "multi-view calibration: no scene point is well exposed (values within the clip "
+        "margin of 0-255 excluded) in two or more photos: the observations cannot constrain a "
+        "response curve");
+  }
+  const std::vector<char> solvable = SolvablePhotos(linked, photos);
+  const Groups groups = BuildGroups(samples, options.clip_margin, solvable);
+  std::vector<int> slot(photos, -1);
+  int solved = 0;
+  for (int i = 0; i < photos; ++i) {
+    if (solvable[i]) slot[i] = solved++;
+  }
+  HDRIBR_CHECK(solved >= 2 && groups.size() > 0);
+
+  Gauge gauge;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int i = 0; i < photos; ++i) {
+    if (!solvable[i] || !std::isfinite(prior[i])) continue;
+    gauge.prior_photos.push_back(i);
+    gauge.mean_prior += prior[i];
+    lo = std::min(lo, prior[i]);
+    hi = std::max(hi, prior[i]);
+  }
+  if (!gauge.prior_photos.empty()) gauge.mean_prior /= gauge.prior_photos.size();
+  gauge.exponent_from_prior = gauge.prior_photos.size() >= 2 && hi - lo >= kMinPriorSpread;
+
+  const Solver solver(groups, prior, slot, solved, options, gauge);
+  std::vector<double> robust(groups.photo.size(), 1.0);
+  double span = options.assumed_log_span > 0 ? options.assumed_log_span : SrgbLogSpan();
+  Eigen::VectorXd x;
+  MultiViewStats stats;
+  stats.exponent_from_prior = gauge.exponent_from_prior;
+  SolveRound(solver, gauge, prior, robust, /*first=*/true, span, x, stats.iterations);
+  std::vector<double> r = Residuals(groups, solver, robust, x);
+  for (int round = 0; round < options.robust_rounds; ++round) {
+    const double scale = RobustScale(groups, r);
+    if (!(scale > 1e-12)) break;  // exact data: nothing to reweigh
+    for (size_t o = 0; o < r.size(); ++o) {
+      const double rho = HatWeight(groups.z[o]) * r[o];
+      const double u = rho / (options.cauchy_scale * scale);
+      robust[o] = std::abs(rho) > options.trim_scale * scale ? 0.0 : 1.0 / (1.0 + u * u);
+    }
+    SolveRound(solver, gauge, prior, robust, /*first=*/false, span, x, stats.iterations);
+    r = Residuals(groups, solver, robust, x);
+  }
+
+  MultiViewCalibration result;
+  result.response.source = "multiview";
+  result.response.lambda = options.lambda;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double>& g = result.response.log_inverse[c];
+    g.resize(kLevels);
+    for (int z = 0; z < kLevels; ++z) g[z] = Solver::Curve(x, c, z);
+    stats.monotone_fixes[c] = MakeMonotone(g);
+  }
+  result.log_exposure.assign(photos, 0.0);
+  result.calibrated.assign(photos, false);
+  result.photo_observations.assign(photos, 0);
+  double mean_solved = 0;
+  double solved_lo = std::numeric_limits<double>::infinity(), solved_hi = -solved_lo;
+  for (int i = 0; i < photos; ++i) {
+    if (slot[i] < 0) continue;
+    const double t = x(solver.TimeVar(i));
+    result.log_exposure[i] = t;
+    result.calibrated[i] = true;
+    mean_solved += t / solved;
+    solved_lo = std::min(solved_lo, t);
+    solved_hi = std::max(solved_hi, t);
+  }
+  if (!gauge.exponent_from_prior && solved_hi - solved_lo < kMinSolvedSpread) {
+    throw UsageError(
+        "multi-view calibration: the photos' exposures do not differ (by 10% or more) and no "
+        "exposure prior tells them apart: the observations cannot constrain a response curve");
+  }
+  for (int i = 0; i < photos; ++i) {
+    if (slot[i] < 0) result.log_exposure[i] = std::isfinite(prior[i]) ? prior[i] : mean_solved;
+  }
+  double sum_a = 0, sum_ar2 = 0;
+  for (size_t o = 0; o < r.size(); ++o) {
+    ++result.photo_observations[groups.photo[o]];
+    if (robust[o] <= 0) {
+      ++stats.observations_rejected;
+      continue;
+    }
+    const double w = HatWeight(groups.z[o]);
+    sum_a += w * w;
+    sum_ar2 += w * w * r[o] * r[o];
+  }
+  stats.observations_used = static_cast<int>(r.size());
+  stats.residual_rms = sum_a > 0 ? std::sqrt(sum_ar2 / sum_a) : 0.0;
+  for (int k = 0; k < groups.size(); ++k) {
+    stats.samples_used += k == 0 || groups.sample[k] != groups.sample[k - 1];
+  }
+  result.relative_exposure.resize(photos);
+  for (int i = 0; i < photos; ++i) {
+    result.relative_exposure[i] = std::exp(std::clamp(result.log_exposure[i], -700.0, 700.0));
+  }
+  result.stats = stats;
+  return result;
+}
+
+namespace {
+
+// A photo prepared for projection: camera at the image's size, rotation and translation, and
+// the mask of flat pixels (CV_8UC1, 255 where every channel's 3x3 range <= max_local_range).
+struct PreparedPhoto {
+  Camera camera;
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  cv::Mat flat;
+};
+
+// Throws OptionError or UsageError on options or photos the gathering cannot use.
+void ValidateGather(const std::vector<MultiViewPhoto>& photos, const GatherOptions& o) {
+  if (o.samples < 1) throw OptionError("samples", "must be >= 1");
+  if (!(o.depth_tolerance > 0) || !std::isfinite(o.depth_tolerance)) {
+    throw OptionError("depth_tolerance", "must be a positive number");
+  }
+  if (o.max_local_range < 0) throw OptionError("max_local_range", "must be >= 0");
+  if (o.clip_margin < 0 || o.clip_margin > 126) {
+    throw OptionError("clip_margin", "must be in 0..126");
+  }
+  if (o.min_photos < 2) throw OptionError("min_photos", "must be >= 2");
+  if (o.candidates < 0) throw OptionError("candidates", "must be >= 0");
+  if (o.bins < 1 || o.bins > 256) throw OptionError("bins", "must be in 1..256");
+  for (size_t i = 0; i < photos.size(); ++i) {
+    const MultiViewPhoto& p = photos[i];
+    const std::string name = "sample gathering: photo " + std::to_string(i);
+    if (p.image.empty() || p.image.type() != CV_8UC3) {
+      throw UsageError(name + ": the image must be 8-bit BGR (CV_8UC3)");
+    }
+    if (p.depth.empty() || p.depth.type() != CV_32FC1) {
+      throw UsageError(name + ": the depth map must be CV_32FC1");
+    }
+    if (!p.camera.IsPinhole() && !p.camera.HasZeroDistortion()) {
+      throw UsageError(name + ": the camera must be pinhole (undistort the photos first)");
+    }
+    if (!p.camera.FitsImage(p.image.cols, p.image.rows) ||
+        !p.camera.FitsImage(p.depth.cols, p.depth.rows)) {
+      throw UsageError(name + ": the image and the depth map must have the camera's aspect");
+    }
+  }
+}
+
+// The photo's camera at its image size, its pose as a matrix, and its flat-pixel mask.
+PreparedPhoto Prepare(const MultiViewPhoto& p, int max_local_range) {
+  PreparedPhoto out;
+  out.camera = p.camera.width == p.image.cols && p.camera.height == p.image.rows
+                   ? p.camera
+                   : p.camera.Scaled(p.image.cols, p.image.rows);
+  out.rotation = p.cam_from_world.rotation.toRotationMatrix();
+  out.translation = p.cam_from_world.translation;
+  cv::Mat range;
+  cv::morphologyEx(p.image, range, cv::MORPH_GRADIENT,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+  std::vector<cv::Mat> channels;
+  cv::split(range, channels);
+  cv::Mat largest = cv::max(cv::max(channels[0], channels[1]), channels[2]);
+  out.flat = largest <= max_local_range;
+  return out;
+}
+
+// The observations of world point `point` (visible, flat, not clipped in every channel).
+MultiViewSample Observe(const Eigen::Vector3d& point, const std::vector<MultiViewPhoto>& photos,
+                        const std::vector<PreparedPhoto>& prepared, const GatherOptions& o) {
+  MultiViewSample sample;
+  for (size_t i = 0; i < photos.size(); ++i) {
+    const PreparedPhoto& p = prepared[i];
+    const Eigen::Vector3d cam = p.rotation * point + p.translation;
+    if (!(cam.z() > 0)) continue;
+    const Eigen::Vector2d px = p.camera.PixelFromCam(cam);
+    const cv::Mat& image = photos[i].image;
+    const cv::Mat& depth = photos[i].depth;
+    if (!(px.x() >= 0 && px.y() >= 0 && px.x() < image.cols && px.y() < image.rows)) continue;
+    const int x = static_cast<int>(px.x());
+    const int y = static_cast<int>(px.y());
+    const int dx = std::min(depth.cols - 1, static_cast<int>(px.x() * depth.cols / image.cols));
+    const int dy = std::min(depth.rows - 1, static_cast<int>(px.y() * depth.rows / image.rows));
+    const float d = depth.at<float>(dy, dx);
+    if (!(d > 0) || std::abs(cam.z() - d) > o.depth_tolerance * cam.z()) continue;
+    if (!p.flat.at<uint8_t>(y, x)) continue;
+    const cv::Vec3b v = image.at<cv::Vec3b>(y, x);
+    bool usable = false;
+    for (int c = 0; c < 3; ++c) {
+      usable = usable || (v[c] > o.clip_margin && v[c] < 255 - o.clip_margin);
+    }
+    if (!usable) continue;
+    sample.observations.push_back({static_cast<int>(i), {v[0], v[1], v[2]}});
+  }
+  return sample;
+}
+
+// Median over the observations of the mean channel value, in [0, 255].
+double MedianValue(const MultiViewSample& sample) {
+  std::vector<double> v;
+  for (const MultiViewObservation& o : sample.observations) {
+    v.push_back((o.bgr[0] + o.bgr[1] + o.bgr[2]) / 3.0);
+  }
+  const auto mid = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Uniform index in [0, n) from a 64-bit generator (its raw output is the same everywhere).
+size_t Pick(std::mt19937_64& rng, size_t n) { return static_cast<size_t>(rng() % n); }
+
+// The first `count` entries of a fixed-seed random permutation of 0..n-1.
+std::vector<int> RandomSubset(int n, int count, std::mt19937_64& rng) {
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  count = std::min(count, n);
+  for (int k = 0; k < count; ++k) {
+    std::swap(order[k], order[k + Pick(rng, static_cast<size_t>(n - k))]);
+  }
+  order.resize(count);
+  return order;
+}
+
+}  // namespace
+
+std::vector<MultiViewSample> GatherMultiViewSamples(const std::vector<MultiViewPhoto>& photos,
+                                                    const std::vector<Eigen::Vector3f>& points,
+                                                    const GatherOptions& options) {
+  ValidateGather(photos, options);
+  std::vector<PreparedPhoto> prepared(photos.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(photos.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      prepared[i] = Prepare(photos[i], options.max_local_range);
+    }
+  });
+  std::mt19937_64 rng(options.seed);
+  const int cap = options.candidates > 0 ? options.candidates : 20 * options.samples;
+  std::vector<int> candidates = RandomSubset(static_cast<int>(points.size()), cap, rng);
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<MultiViewSample> observed(candidates.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(candidates.size())), [&](const cv::Range& r) {
+    for (int k = r.start; k < r.end; ++k) {
+      observed[k] = Observe(points[candidates[k]].cast<double>(), photos, prepared, options);
+      observed[k].point = candidates[k];
+    }
+  });
+  // Bins of the median value, each in a random order, picked from in turn.
+  std::vector<std::vector<int>> bins(options.bins);
+  for (int k = 0; k < static_cast<int>(observed.size()); ++k) {
+    if (static_cast<int>(observed[k].observations.size()) < options.min_photos) continue;
+    const int b = std::min(options.bins - 1,
+                           static_cast<int>(MedianValue(observed[k]) * options.bins / 256.0));
+    bins[b].push_back(k);
+  }
+  for (auto& bin : bins) {
+    for (size_t k = bin.size(); k > 1; --k) std::swap(bin[k - 1], bin[Pick(rng, k)]);
+  }
+  std::vector<int> picked;
+  for (size_t depth = 0; static_cast<int>(picked.size()) < options.samples; ++depth) {
+    bool any = false;
+    for (const auto& bin : bins) {
+      if (depth >= bin.size() || static_cast<int>(picked.size()) >= options.samples) continue;
+      picked.push_back(bin[depth]);
+      any = true;
+    }
+    if (!any) break;
+  }
+  std::sort(picked.begin(), picked.end());
+  std::vector<MultiViewSample> samples;
+  samples.reserve(picked.size());
+  for (int k : picked) samples.push_back(std::move(observed[k]));
+  return samples;
+}
+
+}  // namespace hdribr

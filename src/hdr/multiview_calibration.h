@@ -1,0 +1,138 @@
+// Radiometric calibration from multi-view observations: the camera response g = ln f^-1 per
+// channel (Debevec & Malik 1997, section 2.1) solved jointly with one log exposure per photo,
+// from the 8-bit values of 3D points seen by several photos of any exposure series.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/rigid3.h"
+#include "hdr/debevec.h"
+#include "hdr/response_curve.h"
+
+namespace hdribr {
+
+// One photo's view of a scene point: its 8-bit values in BGR order.
+struct MultiViewObservation {
+  int photo = -1;                     // index into the photo list (and the prior)
+  std::array<std::uint8_t, 3> bgr{};  // pixel values, BGR
+};
+
+// One scene point (one radiance per channel) and the photos that see it.
+struct MultiViewSample {
+  std::vector<MultiViewObservation> observations;
+  int point = -1;  // index of its candidate point (GatherMultiViewSamples), -1 if none
+};
+
+// Options of CalibrateMultiView. Weights are in the units of Debevec's equations: a data
+// equation of value z has weight w(z) = HatWeight(z) (at most 127).
+struct MultiViewOptions {
+  double lambda = 60.0;  // smoothness weight of g'' (Debevec's lambda, equation 3)
+  // Variable of the smoothness term's second difference, as in CalibrationOptions.
+  CalibrationOptions::Smoothness smoothness = CalibrationOptions::Smoothness::kLogCode;
+  // Values <= margin or >= 255 - margin carry no data equation (clipped or nearly).
+  int clip_margin = 2;
+  // Standard deviation (natural log units) of a prior log exposure, and of a mid-grey
+  // observation's g(z) - ln E - ln t: their ratio weighs the prior of one photo against the
+  // data (a prior counts as (observation_sigma / prior_sigma)^2 mid-grey observations).
+  double prior_sigma = 0.1;
+  double observation_sigma = 0.02;
+  // Robust refits after the first least-squares solve: iteratively reweighted with Cauchy
+  // weights 1 / (1 + (rho / (cauchy_scale s))^2) on rho = w(z) r, s the robust (MAD) scale of
+  // rho; observations with |rho| > trim_scale s are dropped. 0 = a single plain solve.
+  int robust_rounds = 6;
+  double cauchy_scale = 2.385;
+  double trim_scale = 5.0;
+  // Used only when no two prior exposures differ by 10 % (no prior, or one exposure for all
+  // photos): the exponent that the response shares with the exposures, which the data cannot
+  // fix (g -> k g, ln t -> k ln t, ln E -> k ln E only scales every residual by k), is set by
+  // taking the mean over channels of g(192) - g(64) as this value (natural log; the default
+  // is sRGB's, about 2.33).
+  double assumed_log_span = 0.0;  // 0 = sRGB's value
+};
+
+// Counts and figures of a multi-view calibration.
+struct MultiViewStats {
+  int samples_used = 0;           // samples with >= 2 usable observations in some channel
+  int observations_used = 0;      // channel observations with a data equation (weight > 0)
+  int observations_rejected = 0;  // of those, dropped by the robust trim in the last round
+  // RMS of g(z) - ln E - ln t (natural log), w(z)-weighted, over the observations kept in
+  // the last round.
+  double residual_rms = 0.0;
+  int iterations = 0;                   // least-squares solves
+  bool exponent_from_prior = false;     // false: fixed by assumed_log_span (no prior ratios)
+  std::array<int, 3> monotone_fixes{};  // entries clamped to keep g non-decreasing
+};
+
+// Result of CalibrateMultiView.
+struct MultiViewCalibration {
+  ResponseCurve response;  // source "multiview", g(128) = 0 per channel
+  // Per photo: natural log of the exposure (time x gain, in the prior's units when a prior
+  // exists, else with mean 0 over the calibrated photos) and exp() of it.
+  std::vector<double> log_exposure;
+  std::vector<double> relative_exposure;
+  // Per photo: true when its exposure was solved from observations; false for a photo outside
+  // the largest set of photos linked by shared scene points (e.g. one with no usable
+  // observation), which keeps its prior or, without one, the calibrated photos' mean.
+  std::vector<bool> calibrated;
+  std::vector<int> photo_observations;  // channel observations per photo (before the trim)
+  MultiViewStats stats;
+};
+
+// Recovers g per channel and ln t per photo (shared by the channels) by weighted least squares
+// over w(z) [g_c(z_ijc) - ln E_jc - ln t_i] (Debevec & Malik equation 3 with the exposure an
+// unknown), lambda w(z) g''(z), the gauge g_c(128) = 0, and the exposure prior:
+// `prior_log_exposure` holds ln of each photo's EXIF relative exposure (Exposure::Relative()),
+// NaN where unknown, or is empty. The data fix the exposures only up to a common factor and an
+// exponent shared with g (g -> k g, ln t -> k ln t); the prior fixes both by regression (its
+// mean and its slope against the solved exposures) when two priors differ by 10 % or more,
+// and each photo's prior weighs as prior_sigma says. Otherwise the exposures have mean 0 (or
+// the priors' mean) and the exponent comes from assumed_log_span. Photos are indices 0 ..
+// prior size - 1 (up to the largest index observed when the prior is empty). Observations are
+// reweighted robustly (MultiViewOptions). Throws UsageError when the observations cannot
+// constrain a curve (fewer than two photos, no point well exposed in two photos, photos all
+// exposed alike without a prior telling them apart). Never NaN.
+MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samples,
+                                        const std::vector<double>& prior_log_exposure,
+                                        const MultiViewOptions& options = {});
+
+// One photo for sample gathering.
+struct MultiViewPhoto {
+  cv::Mat image;  // CV_8UC3 BGR
+  Camera camera;  // pinhole (or zero distortion), any size with the image's aspect
+  Rigid3d cam_from_world;
+  // CV_32FC1 camera-space z (world units) per pixel, 0 = nothing; any size with the image's
+  // aspect (pixel coordinates are scaled to it).
+  cv::Mat depth;
+};
+
+// Options of GatherMultiViewSamples.
+struct GatherOptions {
+  int samples = 3000;  // samples to return at most
+  // Visible in a photo when |z - depth| <= depth_tolerance z at the point's pixel (z its
+  // camera-space depth, depth the map's value there).
+  double depth_tolerance = 0.01;
+  // Kept observations lie where the 3x3 range (max - min, DN) of every channel is at most
+  // this, so that a pixel or two of misregistration changes the value little.
+  int max_local_range = 12;
+  int clip_margin = 2;     // an observation counts when some channel is in (margin, 255 - margin)
+  int min_photos = 2;      // samples need this many counted observations
+  int candidates = 0;      // points projected at most (random subset); 0 = 20 x samples
+  int bins = 32;           // intensity bins of the samples' median value, filled in turn
+  std::uint64_t seed = 1;  // subset and picks (same on every platform)
+};
+
+// Gathers samples for CalibrateMultiView: each candidate point (world frame) is projected into
+// every photo and observed where the depth map agrees and the image is flat; points seen by
+// >= min_photos photos are binned by the median over their observations of the mean channel
+// value and picked from the bins in turn (a fixed-seed random order within each bin).
+// Throws UsageError on inconsistent photos (types, sizes, non-pinhole cameras).
+std::vector<MultiViewSample> GatherMultiViewSamples(const std::vector<MultiViewPhoto>& photos,
+                                                    const std::vector<Eigen::Vector3f>& points,
+                                                    const GatherOptions& options = {});
+
+}  // namespace hdribr
