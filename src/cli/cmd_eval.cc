@@ -34,6 +34,7 @@ struct EvalCliOptions {
   double size_scale = 0.5;
   bool no_baselines = false;
   std::string point_colors = "photos";
+  std::string depth_source = "auto";
   render::RendererOptions renderer;  // depth mode, blend options, photo size
   bool no_depth_cache = false;
 };
@@ -55,6 +56,7 @@ int Run(const EvalCliOptions& opt) {
   options.out_dir = opt.out;
   options.baselines = !opt.no_baselines;
   options.point_colors = opt.point_colors;
+  options.depth_source = opt.depth_source;
   options.renderer = opt.renderer;
   options.renderer.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
   CheckBlendOptions(options.renderer.blend);
@@ -113,6 +115,11 @@ CommandRunner SetupEval(CLI::App& sub) {
                  "Colours of the colour-per-point baseline: photos or cloud")
       ->default_val("photos")
       ->check(CLI::IsMember({"photos", "cloud"}));
+  sub.add_option("--depth-source", opt->depth_source,
+                 "Also score the blend on ground-truth depth (method gt_depth): gt, auto (when "
+                 "the workspace is a synthetic capture's own) or splat (never)")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "gt", "splat"}));
   AddRendererOptions(sub, opt->renderer, opt->no_depth_cache);
   return [opt, loo, gt, cameras] {
     if (cameras->count() > 0) return RunCameras(*opt);

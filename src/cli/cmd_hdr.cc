@@ -22,6 +22,7 @@
 #include "hdr/response_curve.h"
 #include "io/camera_spec.h"
 #include "io/exr.h"
+#include "io/radiometric_calibration.h"
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
 
@@ -35,6 +36,7 @@ struct HdrOptions {
   std::vector<std::string> views;
   std::string path;
   std::string response;
+  std::string calibration = "auto";  // auto, cloud (calib/ of `hdribr calibrate`) or stack
   double lambda = CalibrationOptions().lambda;
   int samples = CalibrationOptions().samples;
   bool plain_debevec = false;
@@ -117,7 +119,19 @@ int Run(const HdrOptions& opt) {
     const CameraPath path = ReadCameraPath(opt.path);
     for (int i = 0; i < path.FrameCount(); ++i) options.views.push_back(path.Frame(i));
   }
-  if (!opt.response.empty()) options.response_file = fs::path(opt.response);
+  // The response: given, the workspace's calibration from the cloud, or calibrated from the
+  // aligned stacks.
+  const fs::path cloud_response = fs::path(opt.workspace) / kCalibFolder / kCalibResponse;
+  std::string source = "calibrated from the aligned stacks";
+  if (!opt.response.empty()) {
+    options.response_file = fs::path(opt.response);
+    source = "given";
+  } else if (opt.calibration == "cloud" && !fs::exists(cloud_response)) {
+    throw InputError(cloud_response, "missing: run `hdribr calibrate " + opt.workspace + "` first");
+  } else if (opt.calibration != "stack" && fs::exists(cloud_response)) {
+    options.response_file = cloud_response;
+    source = "from the point cloud (hdribr calibrate)";
+  }
   options.calibration.lambda = opt.lambda;
   options.calibration.samples = opt.samples;
   if (opt.plain_debevec) options.calibration = PlainDebevec(options.calibration);
@@ -137,8 +151,8 @@ int Run(const HdrOptions& opt) {
   std::printf(
       "HDR photo set: %zu views x %zu series, response %s (%s), in "
       "%.1f s (%s)\n",
-      set.views.size(), set.series_names.size(), opt.response.empty() ? "calibrated" : "given",
-      set.response_file.c_str(), seconds, context.Renderer().c_str());
+      set.views.size(), set.series_names.size(), source.c_str(), set.response_file.c_str(), seconds,
+      context.Renderer().c_str());
   double valid = 0;
   for (const auto& v : set.views) valid += v.valid_fraction;
   std::printf("mean valid fraction %.3f; wrote %s\n", valid / set.views.size(),
@@ -165,6 +179,11 @@ CommandRunner SetupHdr(CLI::App& sub) {
   sub.add_option("--path", opt->path, "Reference views instead: the frames of a camera path");
   sub.add_option("--response", opt->response,
                  "Response curve file (calib format) instead of calibrating");
+  sub.add_option("--calibration", opt->calibration,
+                 "Response: auto (the workspace's calib/ when `hdribr calibrate` made one, else "
+                 "stack), cloud (calib/), stack (Debevec-Malik on the aligned renders)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "cloud", "stack"}));
   sub.add_option("--lambda", opt->lambda, "Calibration smoothness weight")->capture_default_str();
   sub.add_option("--samples", opt->samples, "Calibration samples per channel")
       ->capture_default_str();

@@ -31,6 +31,9 @@ struct Photo {
   Rigid3d cam_from_world;
   Exposure exposure;
   int series_id = -1;  // index into Scene::series, -1 until grouped
+  // Exposure refined by the radiometric calibration (calib/exposures.json), in the units of
+  // Exposure::Relative(); absent before `hdribr calibrate`.
+  std::optional<double> calibrated_exposure;
 
   // Camera centre in world coordinates.
   Eigen::Vector3d Center() const { return cam_from_world.Inverse().translation; }

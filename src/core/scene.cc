@@ -12,6 +12,7 @@ int Scene::FindPhoto(const std::string& name) const {
 }
 
 double Scene::RelativeExposureOf(const Photo& photo) const {
+  if (photo.calibrated_exposure) return *photo.calibrated_exposure;
   if (photo.series_id >= 0 && static_cast<size_t>(photo.series_id) < series.size()) {
     return series[static_cast<size_t>(photo.series_id)].relative_exposure;
   }

@@ -31,8 +31,8 @@ struct Scene {
   const Camera& CameraOf(const Photo& photo) const { return cameras.at(photo.camera_id); }
   // Index of the photo with this name, or -1.
   int FindPhoto(const std::string& name) const;
-  // Relative exposure of a photo for radiance: its series' (shared by the series' photos), else
-  // the photo's own EXIF value.
+  // Relative exposure of a photo for radiance: its calibrated exposure when the workspace has
+  // one, else its series' (shared by the series' photos), else the photo's own EXIF value.
   double RelativeExposureOf(const Photo& photo) const;
   // Index of the photo whose viewpoint is nearest a view, among `candidates` (indices into
   // photos) or all photos: the smallest |C - C_k| / scene_scale + (1 - d . d_k), with C, d the

@@ -1,11 +1,14 @@
 #include "eval/gt_views.h"
 
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/colmap_model.h"
+#include "io/exr.h"
 
 namespace hdribr::eval {
 
@@ -55,6 +58,78 @@ synth::SyntheticResponse ReadCaptureResponse(const std::filesystem::path& captur
   if (!(r.x_sat > 0)) throw InputError(path, "response x_sat must be positive");
   if (!(r.toe >= 0 && r.toe < 1)) throw InputError(path, "response toe must be in [0, 1)");
   return r;
+}
+
+cv::Mat NormalsFromDepth(const cv::Mat& depth, const Camera& camera) {
+  HDRIBR_CHECK(depth.type() == CV_32FC1);
+  const int w = depth.cols, h = depth.rows;
+  auto point = [&](int x, int y) {
+    return Eigen::Vector3d(camera.CamFromPixel({x + 0.5, y + 0.5}) *
+                           static_cast<double>(depth.at<float>(y, x)));
+  };
+  // The neighbour (at +-1 along one axis) with depth closest to z, as a difference vector.
+  auto tangent = [&](int x, int y, int dx, int dy) -> std::optional<Eigen::Vector3d> {
+    const float z = depth.at<float>(y, x);
+    std::optional<Eigen::Vector3d> best;
+    float best_gap = 0;
+    for (int s : {-1, 1}) {
+      const int u = x + s * dx, v = y + s * dy;
+      if (u < 0 || v < 0 || u >= w || v >= h) continue;
+      const float zn = depth.at<float>(v, u);
+      if (zn <= 0) continue;
+      const float gap = std::abs(zn - z);
+      if (best && gap >= best_gap) continue;
+      best = (point(u, v) - point(x, y)) * s;
+      best_gap = gap;
+    }
+    return best;
+  };
+  cv::Mat normal(depth.size(), CV_32FC3, cv::Scalar::all(0));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (depth.at<float>(y, x) <= 0) continue;
+      const Eigen::Vector3d ray = camera.CamFromPixel({x + 0.5, y + 0.5}).normalized();
+      const auto tx = tangent(x, y, 1, 0), ty = tangent(x, y, 0, 1);
+      Eigen::Vector3d n = -ray;
+      if (tx && ty && tx->cross(*ty).norm() > 0) n = tx->cross(*ty).normalized();
+      if (n.dot(ray) > 0) n = -n;
+      normal.at<cv::Vec3f>(y, x) = cv::Vec3f(float(n.x()), float(n.y()), float(n.z()));
+    }
+  }
+  return normal;
+}
+
+std::filesystem::path FindGtCapture(const Scene& scene, const std::filesystem::path& capture_dir) {
+  const std::filesystem::path capture =
+      capture_dir.empty() ? scene.workspace.parent_path() : capture_dir;
+  const std::filesystem::path gt = capture / "gt";
+  if (!IsColmapModelDir(gt) || !std::filesystem::is_directory(gt / "depth")) return {};
+  const ColmapModel model = ReadColmapModel(gt);
+  std::map<std::string, Rigid3d> poses;
+  for (const auto& [id, image] : model.images) poses[image.name] = image.cam_from_world;
+  for (const Photo& photo : scene.photos) {
+    const auto it = poses.find(photo.name);
+    if (it == poses.end()) return {};
+    const Rigid3d d = it->second * photo.cam_from_world.Inverse();
+    if (d.translation.norm() > 1e-6 * std::max(scene.scene_scale, 1e-12) ||
+        d.rotation.angularDistance(Eigen::Quaterniond::Identity()) > 1e-6) {
+      return {};
+    }
+  }
+  return capture;
+}
+
+std::vector<cv::Mat> ReadGtPhotoDepths(const Scene& scene, const std::filesystem::path& capture) {
+  std::vector<cv::Mat> depths;
+  for (const Photo& photo : scene.photos) {
+    const std::filesystem::path path =
+        capture / "gt" / "depth" / (std::filesystem::path(photo.name).stem().string() + ".exr");
+    if (!std::filesystem::exists(path)) throw InputError(path, "ground-truth depth missing");
+    cv::Mat d = ReadExr(path);
+    if (d.type() != CV_32FC1) throw InputError(path, "expected a single-channel depth map");
+    depths.push_back(std::move(d));
+  }
+  return depths;
 }
 
 cv::Mat RadianceToLdr(const cv::Mat& radiance, const synth::SyntheticResponse& response,

@@ -10,6 +10,7 @@
 
 #include "core/camera.h"
 #include "core/rigid3.h"
+#include "core/scene.h"
 #include "synth/camera_response.h"
 
 namespace hdribr::eval {
@@ -29,6 +30,21 @@ std::vector<GtView> ReadGtNovelViews(const std::filesystem::path& capture_dir);
 // The capture's true response (gamma, knee, toe, x_sat from CAPTURE/gt/capture.json), noise
 // parameters included (not used by RadianceToLdr). Throws InputError on a bad file.
 synth::SyntheticResponse ReadCaptureResponse(const std::filesystem::path& capture_dir);
+
+// Camera-space unit normals (CV_32FC3 x, y, z) of a depth map (CV_32FC1 camera z, 0 = none)
+// seen by `camera` (of the map's size): the cross product of the back-projected neighbours on
+// the side whose depth is closer, so that normals do not bend across silhouettes; facing the
+// camera; the reversed ray where no neighbour has depth, 0 where the pixel has none.
+cv::Mat NormalsFromDepth(const cv::Mat& depth, const Camera& camera);
+
+// The capture folder whose ground truth holds this workspace's cameras (a synthetic capture's
+// own workspace): `capture_dir` when given (--gt), else the workspace's parent folder. Empty
+// when there is none or its cameras differ from the workspace's (e.g. after `reconstruct`).
+std::filesystem::path FindGtCapture(const Scene& scene, const std::filesystem::path& capture_dir);
+
+// GT depth (CV_32FC1 camera z, 0 = sky) of every scene photo, from CAPTURE/gt/depth/STEM.exr.
+// Throws InputError naming a missing or unreadable file.
+std::vector<cv::Mat> ReadGtPhotoDepths(const Scene& scene, const std::filesystem::path& capture);
 
 // 8-bit BGR image of linear BGR radiance exposed for `time_s` seconds through the response,
 // without noise: z = round(ValueFromExposure(c, L t)), exactly as the capture's photos were

@@ -129,6 +129,11 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     throw UsageError("point colours from the cloud: the point cloud has no colours");
   }
   if (scene.points.empty()) throw UsageError("the workspace has no points: nothing to render");
+  if (options.depth_source != "auto" && options.depth_source != "gt" &&
+      options.depth_source != "splat") {
+    throw UsageError("the depth source must be auto, gt or splat, got '" + options.depth_source +
+                     "'");
+  }
   const bool gt = !options.gt_capture.empty();
   // "all" (leave-one-out only): every photo, each rendered from the rest of its own series.
   const bool all_series = options.series == "all";
@@ -183,6 +188,22 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     response = std::make_unique<synth::SyntheticResponse>(ReadCaptureResponse(options.gt_capture));
   }
   render::Renderer renderer(shaders, scene, options.renderer);
+  // The perfect-depth reference: the same blend on the capture's GT depth maps.
+  std::filesystem::path depth_capture;
+  if (options.depth_source != "splat") depth_capture = FindGtCapture(scene, options.gt_capture);
+  if (options.depth_source == "gt" && depth_capture.empty()) {
+    throw UsageError(
+        "--depth-source gt: the workspace's cameras are not a synthetic capture's "
+        "ground truth (use the capture's own workspace)");
+  }
+  std::vector<cv::Mat> gt_depths;
+  std::unique_ptr<render::Renderer> gt_renderer;
+  if (!depth_capture.empty()) {
+    gt_depths = ReadGtPhotoDepths(scene, depth_capture);
+    render::RendererOptions o = options.renderer;
+    o.photo_depths = gt_depths;
+    gt_renderer = std::make_unique<render::Renderer>(shaders, scene, o);
+  }
   std::unique_ptr<render::PointColorPass> point_pass;
   if (options.baselines) point_pass = std::make_unique<render::PointColorPass>(shaders);
   std::map<int, std::unique_ptr<SeriesPointColors>> series_colors;
@@ -201,6 +222,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
   report.settings["common_mask"] =
       "intersection of every method's valid pixels" + std::string(gt ? " and GT non-sky" : "");
   if (gt) report.settings["gt_capture"] = options.gt_capture.string();
+  if (gt_renderer) report.settings["gt_depth"] = (depth_capture / "gt").string();
   if (!skipped.empty()) report.settings["skipped_alone_in_series"] = skipped;
   if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir / "views");
 
@@ -210,10 +232,12 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     std::vector<int> active = SeriesPhotos(scene, v.series);
     std::erase(active, v.held_out);
     renderer.SetActivePhotos(active);
+    if (gt_renderer) gt_renderer->SetActivePhotos(active);
 
     // Reference picture.
     cv::Mat reference;
     cv::Mat reference_mask;
+    cv::Mat view_gt_depth;  // full size
     if (gt) {
       const cv::Mat radiance = ReadExr(v.gt_radiance);
       if (radiance.type() != CV_32FC3) throw InputError(v.gt_radiance, "expected RGB radiance");
@@ -223,13 +247,14 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       const std::filesystem::path depth_path =
           v.gt_radiance.parent_path().parent_path() / "depth" / v.gt_radiance.filename();
       if (std::filesystem::exists(depth_path)) {
-        const cv::Mat depth = ReadExr(depth_path);
-        cv::Mat surface = depth > 0;
+        view_gt_depth = ReadExr(depth_path);
+        cv::Mat surface = view_gt_depth > 0;
         cv::resize(surface, reference_mask, size, 0, 0, cv::INTER_NEAREST);
       }
     } else {
       reference =
           ResizeTo(ReadImage(scene.photos[static_cast<size_t>(v.held_out)].image_path), size);
+      if (!gt_depths.empty()) view_gt_depth = gt_depths[static_cast<size_t>(v.held_out)];
     }
 
     struct MethodImage {
@@ -243,6 +268,17 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     render::RenderImages r =
         renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
     images.push_back({"hdribr", ToLdr8(r.color), r.valid, r.valid & (r.depth > 0)});
+    if (gt_renderer) {
+      if (view_gt_depth.type() != CV_32FC1) {
+        throw InputError(depth_capture / "gt", "no ground-truth depth of view '" + v.name + "'");
+      }
+      render::GivenDepth given;
+      cv::resize(view_gt_depth, given.depth, size, 0, 0, cv::INTER_NEAREST);
+      given.normal = NormalsFromDepth(given.depth, v.camera.Scaled(size.width, size.height));
+      const render::RenderImages g =
+          gt_renderer->RenderToImages(v.camera, v.cam_from_world, size.width, size.height, &given);
+      images.push_back({"gt_depth", ToLdr8(g.color), g.valid, g.valid & (g.depth > 0)});
+    }
     if (options.baselines) {
       renderer.blend_options().mode = render::BlendMode::kNearestPhoto;
       r = renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);

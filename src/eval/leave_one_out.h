@@ -32,6 +32,11 @@ struct EvalOptions {
   // that see each point, the held-out photo excluded) or "cloud" (the cloud's own colours).
   std::string point_colors = "photos";
   float point_color_tolerance = 0.01f;  // relative depth agreement for a photo to see a point
+  // Depth the blend is also scored with, beside the splat depth pass: "gt" adds "gt_depth",
+  // hdribr's blend on the ground-truth depth of the view and of every photo (synthetic
+  // captures only); "auto" adds it when the workspace's cameras are a capture's ground truth
+  // (FindGtCapture); "splat" never.
+  std::string depth_source = "auto";
   render::RendererOptions renderer;
 };
 

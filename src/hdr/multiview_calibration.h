@@ -31,7 +31,10 @@ struct MultiViewSample {
 // Options of CalibrateMultiView. Weights are in the units of Debevec's equations: a data
 // equation of value z has weight w(z) = HatWeight(z) (at most 127).
 struct MultiViewOptions {
-  double lambda = 60.0;  // smoothness weight of g'' (Debevec's lambda, equation 3)
+  // Smoothness weight of g'' (Debevec's lambda, equation 3). Larger than the aligned-stack
+  // default: thousands of points seen by tens of photos give tens of thousands of data
+  // equations per channel (docs/algorithms.md, "Radiometric calibration from the cloud").
+  double lambda = 600.0;
   // Variable of the smoothness term's second difference, as in CalibrationOptions.
   CalibrationOptions::Smoothness smoothness = CalibrationOptions::Smoothness::kLogCode;
   // Values <= margin or >= 255 - margin carry no data equation (clipped or nearly).

@@ -11,6 +11,7 @@
 #include "io/exif.h"
 #include "io/image.h"
 #include "io/ply.h"
+#include "io/radiometric_calibration.h"
 #include "io/series_json.h"
 
 namespace hdribr {
@@ -157,6 +158,15 @@ Scene LoadWorkspace(const fs::path& root, const LoadOptions& options) {
     scene.series = ReadSeriesJson(layout.series_json, scene.photos);
   } else {
     scene.series = GroupByExposure(scene.photos);
+  }
+
+  const fs::path calibration = root / kCalibFolder / kCalibExposures;
+  if (IsFile(calibration)) {
+    const RadiometricCalibration c = ReadRadiometricCalibration(calibration);
+    for (Photo& photo : scene.photos) {
+      const auto it = c.photos.find(photo.name);
+      if (it != c.photos.end()) photo.calibrated_exposure = it->second.relative;
+    }
   }
 
   if (!layout.points_ply.empty()) {

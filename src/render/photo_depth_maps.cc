@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
 #include <string>
@@ -73,10 +74,8 @@ void WarnUnwritableOnce(const fs::path& dir, const std::string& problem) {
 
 }  // namespace
 
-PhotoDepthMaps::PhotoDepthMaps(const Scene& scene, DepthPass& pass, double scale,
-                               const fs::path& cache_dir) {
+void PhotoDepthMaps::Allocate(const Scene& scene, double scale) {
   HDRIBR_CHECK(scale > 0.0);
-  const auto t0 = std::chrono::steady_clock::now();
   int max_w = 1, max_h = 1;
   for (const Photo& photo : scene.photos) {
     const Camera& cam = scene.CameraOf(photo);
@@ -90,6 +89,25 @@ PhotoDepthMaps::PhotoDepthMaps(const Scene& scene, DepthPass& pass, double scale
   depth_ = gl::Texture::Create2DArray(GL_R32F, max_w, max_h, layers);
   const float zero = 0.0f;
   glClearTexImage(depth_.id(), 0, GL_RED, GL_FLOAT, &zero);
+}
+
+PhotoDepthMaps::PhotoDepthMaps(const Scene& scene, const std::vector<cv::Mat>& given,
+                               double scale) {
+  HDRIBR_CHECK(given.size() == scene.photos.size());
+  Allocate(scene, scale);
+  std::vector<cv::Mat> layers(given.size());
+  for (size_t i = 0; i < given.size(); ++i) {
+    HDRIBR_CHECK(given[i].type() == CV_32FC1);
+    cv::resize(given[i], layers[i], sizes_[i], 0, 0, cv::INTER_NEAREST);
+  }
+  UploadLayers(depth_, layers);
+  spdlog::info("photo depth maps: {} given", count());
+}
+
+PhotoDepthMaps::PhotoDepthMaps(const Scene& scene, DepthPass& pass, double scale,
+                               const fs::path& cache_dir) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Allocate(scene, scale);
   if (cache_dir.empty()) {
     ComputeLayers(scene, pass, sizes_, depth_);
     spdlog::info("photo depth maps: {} computed in {:.2f} s (no cache)", count(), Since(t0));

@@ -22,6 +22,9 @@ class PhotoDepthMaps {
   // and written to it; a cache that cannot be read or written costs a warning, never a failure.
   PhotoDepthMaps(const Scene& scene, DepthPass& pass, double scale = 1.0,
                  const std::filesystem::path& cache_dir = {});
+  // Given depth maps instead (CV_32FC1 camera z, 0 = none, one per photo in scene order, of
+  // the photo's aspect), resized to the layers by nearest neighbour: a perfect-depth reference.
+  PhotoDepthMaps(const Scene& scene, const std::vector<cv::Mat>& given, double scale = 1.0);
 
   const gl::Texture& depth() const { return depth_; }
   // Size of layer i's valid region in pixels.
@@ -31,6 +34,9 @@ class PhotoDepthMaps {
   bool from_cache() const { return from_cache_; }
 
  private:
+  // Sizes the layers and creates the cleared array.
+  void Allocate(const Scene& scene, double scale);
+
   gl::Texture depth_;
   std::vector<cv::Size> sizes_;
   bool from_cache_ = false;

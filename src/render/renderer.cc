@@ -63,11 +63,12 @@ struct Renderer::Impl {
         blend(shaders),
         depth_pass(shaders, WithPoints(options.depth)),
         textures(s, options.photo_images, options.max_photo_size),
-        depth_maps(s, PrepareDepthPass(depth_pass, s), options.photo_depth_scale,
-                   options.depth_cache_dir) {
+        depth_maps(MakeDepthMaps(s, depth_pass, options)) {
     // The pixels were uploaded: do not keep a second copy of an HDR photo set in memory.
     options.photo_images.clear();
     options.photo_images.shrink_to_fit();
+    options.photo_depths.clear();
+    options.photo_depths.shrink_to_fit();
     blend.SetPhotos(scene, textures, depth_maps);
     SetAll();
     if (options.response) {
@@ -88,9 +89,16 @@ struct Renderer::Impl {
   }
 
   static DepthPassOptions WithPoints(DepthPassOptions o) { return o; }
-  static DepthPass& PrepareDepthPass(DepthPass& pass, const Scene& s) {
+  static PhotoDepthMaps MakeDepthMaps(const Scene& s, DepthPass& pass, const RendererOptions& o) {
     pass.SetPoints(s.points);
-    return pass;
+    if (!o.photo_depths.empty()) {
+      if (o.photo_depths.size() != s.photos.size()) {
+        throw UsageError("given photo depth maps: " + std::to_string(o.photo_depths.size()) +
+                         " for " + std::to_string(s.photos.size()) + " photos");
+      }
+      return PhotoDepthMaps(s, o.photo_depths, o.photo_depth_scale);
+    }
+    return PhotoDepthMaps(s, pass, o.photo_depth_scale, o.depth_cache_dir);
   }
 
   void SetAll() {
@@ -153,7 +161,27 @@ void Renderer::SetMaxCandidates(int max_candidates) {
 
 int Renderer::max_candidates() const { return impl_->options.max_candidates; }
 
-void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target) {
+namespace {
+
+// Uploads a given depth and normal into the view's depth target.
+void UploadGivenDepth(const GivenDepth& given, DepthTarget& target) {
+  const int w = target.width(), h = target.height();
+  if (given.depth.type() != CV_32FC1 || given.normal.type() != CV_32FC3 || given.depth.cols != w ||
+      given.depth.rows != h || given.normal.size() != given.depth.size()) {
+    throw UsageError("a given depth must be CV_32FC1 with CV_32FC3 normals of the target's size");
+  }
+  const cv::Mat depth = given.depth.clone();  // continuous
+  cv::Mat normal;
+  cv::cvtColor(given.normal, normal, cv::COLOR_RGB2RGBA);  // x, y, z kept in order
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(target.depth.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT, depth.data);
+  glTextureSubImage2D(target.normal.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, normal.data);
+}
+
+}  // namespace
+
+void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target,
+                      const GivenDepth* given) {
   Impl& m = *impl_;
   const Camera cam = (camera.width == target.width() && camera.height == target.height())
                          ? camera
@@ -181,7 +209,11 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   Impl::Stamps& stamps = m.stamps[m.newest];
   if (stamps.unread && stamps.t[2].Available()) m.ReadStamps(stamps);
   stamps.t[0].Stamp();
-  m.depth_pass.Process(cam, cam_from_world, target.depth);
+  if (given) {
+    UploadGivenDepth(*given, target.depth);
+  } else {
+    m.depth_pass.Process(cam, cam_from_world, target.depth);
+  }
   stamps.t[1].Stamp();
   m.blend.Process(cam, cam_from_world, target.depth, m.options.blend,
                   m.response ? &m.response : nullptr, target.color, target.aux);
@@ -190,12 +222,12 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
 }
 
 RenderImages Renderer::RenderToImages(const Camera& camera, const Rigid3d& cam_from_world,
-                                      int width, int height) {
+                                      int width, int height, const GivenDepth* given) {
   Impl& m = *impl_;
   if (!m.scratch || m.scratch->width() != width || m.scratch->height() != height) {
     m.scratch = RenderTarget::Create(width, height);
   }
-  Render(camera, cam_from_world, *m.scratch);
+  Render(camera, cam_from_world, *m.scratch, given);
   return Read(*m.scratch);
 }
 

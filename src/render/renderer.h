@@ -40,6 +40,15 @@ struct RendererOptions {
   std::vector<cv::Mat> photo_images;
   // Needed by PhotoEncoding::kRadiance.
   std::optional<ResponseCurve> response;
+  // The photos' depth maps to use instead of the depth pass's (CV_32FC1 camera z, 0 = none,
+  // one per scene photo in scene order): a perfect-depth reference; empty = the depth pass.
+  std::vector<cv::Mat> photo_depths;
+};
+
+// The view's depth given instead of the depth pass's, both of the target's size.
+struct GivenDepth {
+  cv::Mat depth;   // CV_32FC1 camera z, 0 = none
+  cv::Mat normal;  // CV_32FC3 camera-space unit normal (x, y, z)
 };
 
 // Per-frame GPU timings in milliseconds (GL timestamp queries).
@@ -94,11 +103,13 @@ class Renderer {
   void SetMaxCandidates(int max_candidates);
   int max_candidates() const;
 
-  // Renders the view into `target` (intrinsics rescaled to the target size if they differ).
-  void Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target);
+  // Renders the view into `target` (intrinsics rescaled to the target size if they differ);
+  // with `given`, its depth replaces the depth pass.
+  void Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target,
+              const GivenDepth* given = nullptr);
   // Render() and read back.
   RenderImages RenderToImages(const Camera& camera, const Rigid3d& cam_from_world, int width,
-                              int height);
+                              int height, const GivenDepth* given = nullptr);
   static RenderImages Read(const RenderTarget& target);
 
   // The candidate photos of the newest Render() (none before the first).

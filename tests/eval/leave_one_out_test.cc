@@ -40,6 +40,7 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
   EvalOptions options;
   options.size_scale = std::getenv("HDRIBR_EVAL_CAPTURE") ? 0.5 : 1.0;
   options.out_dir = test::TempDir("loo_out");
+  options.depth_source = "splat";
   const EvalReport report = RunEvaluation(scene, shaders, options);
   std::cout << FormatMeanTable(report);
   EXPECT_EQ(report.kind, "leave-one-out");
@@ -62,13 +63,30 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
   EXPECT_GT(mean[0].scores.psnr_db, mean[2].scores.psnr_db);  // hdribr beats colour per point
   EXPECT_TRUE(fs::exists(options.out_dir / "eval.json"));
 
-  // Ground truth novel views of the same capture.
+  // Ground truth novel views of the same capture, with the perfect-depth reference ("auto"
+  // finds the capture's GT depth): scored on the same pixels, close to hdribr.
   options.gt_capture = cap;
   options.out_dir.clear();
+  options.depth_source = "auto";
   const EvalReport gt = RunEvaluation(scene, shaders, options);
   std::cout << FormatMeanTable(gt);
   EXPECT_EQ(gt.kind, "gt-novel");
-  EXPECT_FALSE(gt.views.empty());
+  ASSERT_FALSE(gt.views.empty());
+  for (const ViewReport& v : gt.views) {
+    ASSERT_EQ(v.methods.size(), 4u);
+    EXPECT_EQ(v.methods[1].method, "gt_depth");
+    EXPECT_EQ(v.methods[1].scores.pixels, v.methods[0].scores.pixels);
+    EXPECT_GT(v.methods[1].own_coverage, 0.9 * v.methods[0].own_coverage);
+    EXPECT_NEAR(v.methods[1].scores.psnr_db, v.methods[0].scores.psnr_db, 3.0);
+  }
+  // "gt" on a workspace whose cameras are not the capture's is refused.
+  Scene moved = scene;
+  moved.photos[0].cam_from_world.translation.x() += 0.1;
+  options.depth_source = "gt";
+  EXPECT_THROW(RunEvaluation(moved, shaders, options), UsageError);
+  options.depth_source = "depth";
+  EXPECT_THROW(RunEvaluation(scene, shaders, options), UsageError);
+  options.depth_source = "auto";
 
   options.gt_capture.clear();
   options.photos = {"missing.jpg"};

@@ -115,6 +115,15 @@ void ExpectFinite(const MultiViewCalibration& r) {
   for (double t : r.relative_exposure) EXPECT_TRUE(std::isfinite(t) && t > 0);
 }
 
+// Options for the generated observations: noise and 8-bit rounding only, without the JPEG and
+// resampling errors of photos, so they want less smoothing than the default (which is set on
+// rendered captures: docs/algorithms.md).
+MultiViewOptions CleanData() {
+  MultiViewOptions o;
+  o.lambda = 60.0;
+  return o;
+}
+
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
@@ -123,7 +132,7 @@ TEST(CalibrateMultiView, RecoversResponseAndExposuresWithPerturbedPrior) {
   const SyntheticResponse camera;
   const SyntheticViews views = MakeViews({});
   const auto start = std::chrono::steady_clock::now();
-  const MultiViewCalibration got = CalibrateMultiView(views.samples, views.prior);
+  const MultiViewCalibration got = CalibrateMultiView(views.samples, views.prior, CleanData());
   const double seconds = Seconds(start);
   ASSERT_TRUE(got.response.IsValid());
   ExpectFinite(got);
@@ -168,7 +177,7 @@ TEST(CalibrateMultiView, WithinTheAlignedStackCalibrationsError) {
   spec.prior_sigma = 0.0;
   spec.outliers = 0.0;
   const SyntheticViews views = MakeViews(spec);
-  const MultiViewCalibration got = CalibrateMultiView(views.samples, views.prior);
+  const MultiViewCalibration got = CalibrateMultiView(views.samples, views.prior, CleanData());
   ExposureStack stack;
   constexpr int kBlocks = 60, kBlock = 4;
   SplitMix64 rng(11);
@@ -211,7 +220,7 @@ TEST(CalibrateMultiView, PartialPriorFixesTheRest) {
   const SyntheticViews views = MakeViews(spec);
   std::vector<double> prior(views.prior.size(), kNaN);
   for (size_t i = 0; i < prior.size(); i += 4) prior[i] = views.prior[i];
-  const MultiViewCalibration got = CalibrateMultiView(views.samples, prior);
+  const MultiViewCalibration got = CalibrateMultiView(views.samples, prior, CleanData());
   ExpectFinite(got);
   EXPECT_TRUE(got.stats.exponent_from_prior);
   for (int c = 0; c < 3; ++c) {
@@ -243,7 +252,7 @@ TEST(CalibrateMultiView, WithoutPriorRecoversExposuresUpToFactorAndExponent) {
   // the exposures are recovered.
   const SyntheticResponse camera;
   const SyntheticViews views = MakeViews({});
-  const MultiViewCalibration got = CalibrateMultiView(views.samples, {});
+  const MultiViewCalibration got = CalibrateMultiView(views.samples, {}, CleanData());
   ExpectFinite(got);
   EXPECT_FALSE(got.stats.exponent_from_prior);
   EXPECT_NEAR(std::accumulate(got.log_exposure.begin(), got.log_exposure.end(), 0.0), 0.0, 1e-3);
@@ -270,7 +279,7 @@ TEST(CalibrateMultiView, PhotoWithoutObservationsKeepsItsPrior) {
   SyntheticViews views = MakeViews(Spec(16, 800));
   views.prior.push_back(0.3);   // photo 16: in the prior, in no sample
   views.prior.push_back(kNaN);  // photo 17: neither
-  const MultiViewCalibration got = CalibrateMultiView(views.samples, views.prior);
+  const MultiViewCalibration got = CalibrateMultiView(views.samples, views.prior, CleanData());
   ExpectFinite(got);
   ASSERT_EQ(got.log_exposure.size(), 18u);
   EXPECT_FALSE(got.calibrated[16]);
@@ -318,7 +327,7 @@ TEST(CalibrateMultiView, DisconnectedPhotosWithoutPriorAreNotCalibrated) {
   std::vector<double> prior = views.prior;
   prior.push_back(kNaN);
   prior.push_back(kNaN);
-  const MultiViewCalibration got = CalibrateMultiView(views.samples, prior);
+  const MultiViewCalibration got = CalibrateMultiView(views.samples, prior, CleanData());
   ExpectFinite(got);
   EXPECT_FALSE(got.calibrated[8]);
   EXPECT_FALSE(got.calibrated[9]);

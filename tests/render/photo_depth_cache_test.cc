@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "analytic_scene.h"
+#include "core/error.h"
 #include "gl_test_util.h"
 #include "io/depth_map_cache.h"
 #include "render/photo_depth_key.h"
@@ -347,6 +348,51 @@ TEST_F(PhotoDepthCacheTest, RendererWithAWarmCacheRendersTheSameBytes) {
     EXPECT_TRUE(SameBits(im->depth, none.depth));
     EXPECT_TRUE(SameBits(im->count, none.count));
   }
+}
+
+// Depth given instead of computed (the perfect-depth reference of `eval`): the depth pass's own
+// maps given back, for the photos and the view, render the same bytes.
+TEST_F(PhotoDepthCacheTest, GivenDepthsRenderTheSameBytes) {
+  const Scene s = MakeScene();
+  RendererOptions options;
+  cv::RNG rng(5);
+  for (const Photo& p : s.photos) {
+    const Camera& cam = s.CameraOf(p);
+    cv::Mat img(cam.height, cam.width, CV_8UC3);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    options.photo_images.push_back(img);
+  }
+  DepthPass pass(*shaders_);
+  pass.SetPoints(s.points);
+  const PhotoDepthMaps computed(s, pass);
+  std::vector<cv::Mat> given_maps;
+  for (int i = 0; i < computed.count(); ++i) {
+    const cv::Size size = computed.layer_size(i);
+    given_maps.push_back(ReadTextureLayerR32F(computed.depth(), i)(cv::Rect({0, 0}, size)).clone());
+  }
+  const Camera view_cam = test::TestCamera(80);
+  const Rigid3d view = LookAt(Eigen::Vector3d(0.3, 0.2, -0.1), Eigen::Vector3d(0, 0, 3.2),
+                              Eigen::Vector3d(0, -1, 0));
+  Renderer splat(*shaders_, s, options);
+  const RenderImages reference = splat.RenderToImages(view_cam, view, 80, 80);
+  EXPECT_GT(cv::countNonZero(reference.valid), 80 * 80 / 3);
+
+  RendererOptions with_maps = options;
+  with_maps.photo_depths = given_maps;
+  Renderer given(*shaders_, s, with_maps);
+  const GivenDepth view_depth{reference.depth, reference.normal};
+  const RenderImages out = given.RenderToImages(view_cam, view, 80, 80, &view_depth);
+  EXPECT_TRUE(SameBits(out.color, reference.color));
+  EXPECT_TRUE(SameBits(out.valid, reference.valid));
+  EXPECT_TRUE(SameBits(out.depth, reference.depth));
+  EXPECT_TRUE(SameBits(out.count, reference.count));
+
+  // A wrong count of maps or a view depth of another size is refused.
+  with_maps.photo_depths.pop_back();
+  EXPECT_THROW(Renderer(*shaders_, s, with_maps), UsageError);
+  const GivenDepth small{cv::Mat(40, 40, CV_32FC1, cv::Scalar(1)),
+                         cv::Mat(40, 40, CV_32FC3, cv::Scalar(0, 0, -1))};
+  EXPECT_THROW(given.RenderToImages(view_cam, view, 80, 80, &small), UsageError);
 }
 
 }  // namespace

@@ -1,0 +1,155 @@
+// `hdribr calibrate WORKSPACE`: the camera response and every photo's exposure from the point
+// cloud (render/cloud_calibration.h), written to WORKSPACE/calib/ where `hdr`, `render`,
+// `view` and `eval` find them.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cli/cli_util.h"
+#include "cli/command.h"
+#include "cli/render_options.h"
+#include "core/error.h"
+#include "gl/context.h"
+#include "gl/shader_library.h"
+#include "hdr/response_curve.h"
+#include "io/atomic_file.h"
+#include "io/workspace.h"
+#include "render/cloud_calibration.h"
+
+namespace hdribr::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct CalibrateOptions {
+  std::string workspace;
+  int samples = GatherOptions().samples;
+  double lambda = MultiViewOptions().lambda;
+  bool no_depth_cache = false;
+  std::string truth;  // a synthetic capture: errors against its true response and exposures
+};
+
+// Median and largest |ln(a_i / b_i) - median| in percent (exp - 1): errors up to one factor.
+std::pair<double, double> FactorFreeErrors(const std::vector<double>& log_ratio) {
+  std::vector<double> v = log_ratio;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  const double centre = v[v.size() / 2];
+  std::vector<double> err;
+  for (double r : log_ratio) err.push_back(std::abs(r - centre));
+  std::sort(err.begin(), err.end());
+  return {100 * std::expm1(err[err.size() / 2]), 100 * std::expm1(err.back())};
+}
+
+void ReportTruth(const Scene& scene, const RadiometricCalibration& c, const ResponseCurve& got,
+                 const fs::path& capture) {
+  const ResponseCurve truth = ReadResponseCurve(capture / "calib" / "response.json");
+  std::printf("response vs truth, RMS linear error over 10-245 DN: B %.4f  G %.4f  R %.4f\n",
+              RmsLinearError(got, truth, 0), RmsLinearError(got, truth, 1),
+              RmsLinearError(got, truth, 2));
+  const fs::path json_path = capture / "gt" / "capture.json";
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(ReadFileToString(json_path));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(json_path, std::string("not a capture description: ") + e.what());
+  }
+  if (!j.contains("photos")) {
+    std::printf("%s has no per-photo exposures (made before them): exposures not compared\n",
+                json_path.c_str());
+    return;
+  }
+  const double gain = j.value("iso", 100.0) / 100.0 / std::pow(j.value("f_number", 1.0), 2);
+  std::vector<double> calibrated, exif;
+  for (const auto& p : j["photos"]) {
+    const auto it = c.photos.find(p.at("name").get<std::string>());
+    if (it == c.photos.end()) continue;
+    const double truth_rel = p.at("exposure_time_s").get<double>() * gain;
+    calibrated.push_back(std::log(it->second.relative / truth_rel));
+    exif.push_back(std::log(it->second.exif_relative / truth_rel));
+  }
+  if (calibrated.empty()) return;
+  const auto [cal_med, cal_max] = FactorFreeErrors(calibrated);
+  const auto [exif_med, exif_max] = FactorFreeErrors(exif);
+  std::printf(
+      "exposures vs truth (%zu photos, up to one factor): calibrated median %.2f %%, max %.2f "
+      "%%; EXIF median %.2f %%, max %.2f %%\n",
+      calibrated.size(), cal_med, cal_max, exif_med, exif_max);
+  (void)scene;
+}
+
+int Run(const CalibrateOptions& opt) {
+  const auto start = std::chrono::steady_clock::now();
+  const Scene scene = LoadWorkspace(opt.workspace);
+  render::CloudCalibrationOptions options;
+  options.gather.samples = opt.samples;
+  options.solve.lambda = opt.lambda;
+  options.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const render::CloudCalibrationResult result = render::CalibrateFromCloud(shaders, scene, options);
+  const RadiometricCalibration calibration = render::ToWorkspaceCalibration(scene, result);
+  const fs::path dir = fs::path(opt.workspace) / kCalibFolder;
+  fs::create_directories(dir);
+  WriteResponseCurve(dir / calibration.response_file, result.calibration.response);
+  WriteRadiometricCalibration(dir / kCalibExposures, calibration);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const MultiViewStats& st = result.calibration.stats;
+  int solved = 0;
+  double lo = HUGE_VAL, hi = 0;
+  for (const auto& [name, e] : calibration.photos) {
+    solved += e.calibrated ? 1 : 0;
+    lo = std::min(lo, e.relative);
+    hi = std::max(hi, e.relative);
+  }
+  std::printf(
+      "calibrated %d of %zu photos from %d points (%d observations, %d rejected), residual "
+      "%.4f; exposures span %.2f stops; %s\n",
+      solved, scene.photos.size(), st.samples_used, st.observations_used, st.observations_rejected,
+      st.residual_rms, std::log2(hi / lo),
+      st.exponent_from_prior ? "scale from EXIF"
+                             : "no EXIF ratios: exposures up to a factor and an exponent");
+  for (const auto& [name, e] : calibration.photos) {
+    if (!e.calibrated)
+      std::printf("  %s: not calibrated (no usable overlap), EXIF kept\n", name.c_str());
+  }
+  std::printf("wrote %s and %s in %.1f s (%s)\n", (dir / calibration.response_file).c_str(),
+              (dir / kCalibExposures).c_str(), seconds, context.Renderer().c_str());
+  if (!opt.truth.empty()) {
+    ReportTruth(scene, calibration, result.calibration.response, opt.truth);
+  }
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner SetupCalibrate(CLI::App& sub);
+HDRIBR_COMMAND(calibrate,
+               "Camera response and every photo's exposure from the point cloud (calib/)",
+               SetupCalibrate, 28);
+
+CommandRunner SetupCalibrate(CLI::App& sub) {
+  auto opt = std::make_shared<CalibrateOptions>();
+  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  sub.add_option("--samples", opt->samples, "Scene points to sample")->capture_default_str();
+  sub.add_option("--lambda", opt->lambda, "Smoothness weight of the response")
+      ->capture_default_str();
+  AddNoDepthCacheOption(sub, opt->no_depth_cache);
+  sub.add_option("--truth", opt->truth,
+                 "Synthetic capture folder: report the errors against its true response and "
+                 "exposures");
+  return [opt] {
+    if (opt->samples < 16) throw UsageError("--samples must be at least 16");
+    if (!(opt->lambda > 0)) throw UsageError("--lambda must be > 0");
+    return Run(*opt);
+  };
+}
+
+}  // namespace hdribr::cli

@@ -1,0 +1,93 @@
+// `hdribr calibrate` end to end: an auto-exposure synthetic capture with EXIF 5 % off is
+// calibrated within the targets, the result is written to calib/ and loaded with the
+// workspace; a workspace that cannot be calibrated gives one clear error and writes nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <regex>
+#include <string>
+
+#include "io/radiometric_calibration.h"
+#include "io/workspace.h"
+#include "synth/capture.h"
+#include "test_util.h"
+
+namespace hdribr {
+namespace {
+namespace fs = std::filesystem;
+
+// The numbers after `prefix` in `text` (as many as `count`), or an empty vector.
+std::vector<double> NumbersAfter(const std::string& text, const std::string& prefix, int count) {
+  const size_t at = text.find(prefix);
+  if (at == std::string::npos) return {};
+  std::vector<double> out;
+  const std::regex number(R"([0-9]+\.[0-9]+)");
+  std::string rest = text.substr(at + prefix.size());
+  for (std::sregex_iterator it(rest.begin(), rest.end(), number), end;
+       it != end && static_cast<int>(out.size()) < count; ++it) {
+    out.push_back(std::stod(it->str()));
+  }
+  return out;
+}
+
+TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
+  const fs::path cap = test::TempDir("calibrate_cli") / "capture";
+  synth::CaptureOptions o;
+  o.views = 12;  // 36 photos over 4 stops
+  o.width = 256;
+  o.height = 192;
+  o.novel_views = 0;
+  o.exposure = "auto";
+  o.exif_error = 0.05;
+  o.seed = 4;
+  synth::WriteCapture(o, cap);
+  const fs::path ws = cap / "workspace";
+  const auto r = test::RunCommand(std::string(HDRIBR_EXE) + " calibrate " + ws.string() +
+                                  " --truth " + cap.string() + " 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::cout << r.output;
+  EXPECT_NE(r.output.find("calibrated 36 of 36 photos"), std::string::npos) << r.output;
+  const std::vector<double> rms = NumbersAfter(r.output, "over 10-245 DN:", 3);
+  ASSERT_EQ(rms.size(), 3u) << r.output;
+  for (double e : rms) EXPECT_LE(e, 0.03);
+  const std::vector<double> exposure = NumbersAfter(r.output, "calibrated median", 2);
+  const std::vector<double> exif = NumbersAfter(r.output, "EXIF median", 2);
+  ASSERT_EQ(exposure.size(), 2u) << r.output;
+  ASSERT_EQ(exif.size(), 2u) << r.output;
+  EXPECT_LE(exposure[1], 2.0);  // percent, largest
+  EXPECT_GT(exif[1], 5.0);      // EXIF alone is off by more
+
+  // The workspace carries the calibration: every photo's refined exposure.
+  const RadiometricCalibration c = ReadRadiometricCalibration(ws / kCalibFolder / kCalibExposures);
+  EXPECT_EQ(c.photos.size(), 36u);
+  EXPECT_TRUE(c.exponent_from_exif);
+  const Scene scene = LoadWorkspace(ws);
+  for (const Photo& p : scene.photos) {
+    ASSERT_TRUE(p.calibrated_exposure.has_value()) << p.name;
+    EXPECT_DOUBLE_EQ(scene.RelativeExposureOf(p), c.photos.at(p.name).relative);
+  }
+}
+
+TEST(CalibrateCli, OnePhotoIsOneClearErrorAndWritesNothing) {
+  const fs::path cap = test::TempDir("calibrate_cli_one") / "capture";
+  synth::CaptureOptions o;
+  o.series = 1;
+  o.views = 1;
+  o.width = 64;
+  o.height = 48;
+  o.novel_views = 0;
+  synth::WriteCapture(o, cap);
+  const fs::path ws = cap / "workspace";
+  const std::string exe = HDRIBR_EXE;
+  auto r = test::RunCommand(exe + " calibrate " + ws.string() + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("at least two photos"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(ws / kCalibFolder));
+  // `hdr --calibration cloud` without a calibration names the missing file.
+  r = test::RunCommand(exe + " hdr " + ws.string() + " --calibration cloud 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("hdribr calibrate"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace hdribr
