@@ -17,6 +17,7 @@
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "io/colmap_model.h"
+#include "io/radiometric_calibration.h"
 #include "io/workspace.h"
 #include "render/renderer.h"
 
@@ -71,6 +72,9 @@ int Run(const EvalCliOptions& opt) {
   }
   CheckOutsideInputs(opt.workspace, opt.out);
   const Scene scene = LoadWorkspace(opt.workspace);
+  const std::filesystem::path response =
+      std::filesystem::path(opt.workspace) / kCalibFolder / kCalibResponse;
+  if (std::filesystem::exists(response)) options.response = ReadResponseCurve(response);
   if (!opt.no_baselines && opt.point_colors == "cloud" && !scene.points.HasColors()) {
     throw UsageError("--point-colors cloud: the point cloud has no colours");
   }

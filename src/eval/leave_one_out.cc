@@ -11,8 +11,10 @@
 #include "core/error.h"
 #include "eval/gt_views.h"
 #include "eval/point_colors.h"
+#include "hdr/re_expose.h"
 #include "io/exr.h"
 #include "io/image.h"
+#include "render/cloud_calibration.h"
 #include "render/point_color_pass.h"
 #include "render/readback.h"
 
@@ -139,6 +141,9 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
   const bool all_series = options.series == "all";
   if (all_series && gt) throw UsageError("series 'all' applies to leave-one-out evaluation only");
   const int default_series = ResolveSeries(scene, all_series ? "" : options.series);
+  // LDR-OE: with several exposures, every photo is rendered in radiance from all the others
+  // and re-exposed at its own exposure through the response.
+  const bool in_radiance = all_series && options.photos.empty() && scene.series.size() >= 2;
 
   // The views.
   std::vector<EvalView> views;
@@ -167,12 +172,23 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       views.push_back({p.name, scene.CameraOf(p), p.cam_from_world, p.series_id, i, {}});
     }
   }
+  // The photos that render a view: every other photo in radiance, else the other photos of
+  // its series.
+  const auto active_photos = [&](const EvalView& v) {
+    std::vector<int> active;
+    if (in_radiance) {
+      for (size_t i = 0; i < scene.photos.size(); ++i) active.push_back(static_cast<int>(i));
+    } else {
+      active = SeriesPhotos(scene, v.series);
+    }
+    std::erase(active, v.held_out);
+    return active;
+  };
   // A photo alone in its series cannot be rendered from its own exposure: an error when it
   // was asked for, skipped (and listed in the report's settings) with --series all.
   std::string skipped;
   std::erase_if(views, [&](const EvalView& v) {
-    std::vector<int> active = SeriesPhotos(scene, v.series);
-    std::erase(active, v.held_out);
+    const std::vector<int> active = active_photos(v);
     if (!active.empty()) return false;
     if (!all_series) {
       throw UsageError("view '" + v.name + "': its series has no other photo to render from");
@@ -187,7 +203,41 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
   if (gt) {
     response = std::make_unique<synth::SyntheticResponse>(ReadCaptureResponse(options.gt_capture));
   }
-  render::Renderer renderer(shaders, scene, options.renderer);
+  // The response and exposures of the re-exposure: the workspace's calibration, else one from
+  // the point cloud now (the scene's copy then carries its exposures).
+  render::RendererOptions renderer_options = options.renderer;
+  Scene calibrated;
+  const Scene* render_scene = &scene;
+  std::string response_source;
+  if (in_radiance) {
+    renderer_options.response = options.response;
+    response_source = "the workspace's calib/ (hdribr calibrate)";
+    if (!renderer_options.response) {
+      spdlog::info(
+          "no calib/ in the workspace: calibrating from the point cloud (`hdribr "
+          "calibrate` keeps the result)");
+      render::CloudCalibrationOptions co;
+      co.depth = options.renderer.depth;
+      co.depth_cache_dir = options.renderer.depth_cache_dir;
+      const render::CloudCalibrationResult c = render::CalibrateFromCloud(shaders, scene, co);
+      calibrated = scene;
+      for (size_t i = 0; i < calibrated.photos.size(); ++i) {
+        calibrated.photos[i].calibrated_exposure = c.calibration.relative_exposure[i];
+      }
+      render_scene = &calibrated;
+      renderer_options.response = c.calibration.response;
+      response_source = "calibrated from the point cloud";
+    }
+    renderer_options.blend.encoding = render::PhotoEncoding::kRadiance;
+  }
+  // 8-bit image of a rendered value: re-exposed radiance, or display values.
+  const auto to_ldr = [&](const cv::Mat& color, const EvalView& v) {
+    if (!in_radiance) return ToLdr8(color);
+    const Photo& photo = render_scene->photos[static_cast<size_t>(v.held_out)];
+    return ExposeThroughResponse(color, *renderer_options.response,
+                                 render_scene->RelativeExposureOf(photo));
+  };
+  render::Renderer renderer(shaders, *render_scene, renderer_options);
   // The perfect-depth reference: the same blend on the capture's GT depth maps.
   std::filesystem::path depth_capture;
   if (options.depth_source != "splat") depth_capture = FindGtCapture(scene, options.gt_capture);
@@ -200,9 +250,9 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
   std::unique_ptr<render::Renderer> gt_renderer;
   if (!depth_capture.empty()) {
     gt_depths = ReadGtPhotoDepths(scene, depth_capture);
-    render::RendererOptions o = options.renderer;
+    render::RendererOptions o = renderer_options;
     o.photo_depths = gt_depths;
-    gt_renderer = std::make_unique<render::Renderer>(shaders, scene, o);
+    gt_renderer = std::make_unique<render::Renderer>(shaders, *render_scene, o);
   }
   std::unique_ptr<render::PointColorPass> point_pass;
   if (options.baselines) point_pass = std::make_unique<render::PointColorPass>(shaders);
@@ -224,13 +274,17 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
   if (gt) report.settings["gt_capture"] = options.gt_capture.string();
   if (gt_renderer) report.settings["gt_depth"] = (depth_capture / "gt").string();
   if (!skipped.empty()) report.settings["skipped_alone_in_series"] = skipped;
+  if (in_radiance) {
+    report.settings["protocol"] =
+        "LDR-OE: radiance from every other photo, re-exposed at the held-out photo's exposure";
+    report.settings["response"] = response_source;
+  }
   if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir / "views");
 
   const render::BlendMode mode = renderer.blend_options().mode;
   for (const EvalView& v : views) {
     const cv::Size size = ScaledSize(v.camera, options.size_scale);
-    std::vector<int> active = SeriesPhotos(scene, v.series);
-    std::erase(active, v.held_out);
+    const std::vector<int> active = active_photos(v);
     renderer.SetActivePhotos(active);
     if (gt_renderer) gt_renderer->SetActivePhotos(active);
 
@@ -267,7 +321,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     renderer.blend_options().mode = mode;
     render::RenderImages r =
         renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
-    images.push_back({"hdribr", ToLdr8(r.color), r.valid, r.valid & (r.depth > 0)});
+    images.push_back({"hdribr", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0)});
     if (gt_renderer) {
       if (view_gt_depth.type() != CV_32FC1) {
         throw InputError(depth_capture / "gt", "no ground-truth depth of view '" + v.name + "'");
@@ -277,13 +331,16 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       given.normal = NormalsFromDepth(given.depth, v.camera.Scaled(size.width, size.height));
       const render::RenderImages g =
           gt_renderer->RenderToImages(v.camera, v.cam_from_world, size.width, size.height, &given);
-      images.push_back({"gt_depth", ToLdr8(g.color), g.valid, g.valid & (g.depth > 0)});
+      images.push_back({"gt_depth", to_ldr(g.color, v), g.valid, g.valid & (g.depth > 0)});
     }
     if (options.baselines) {
       renderer.blend_options().mode = render::BlendMode::kNearestPhoto;
       r = renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
       renderer.blend_options().mode = mode;
-      images.push_back({"nearest_photo", ToLdr8(r.color), r.valid, r.valid & (r.depth > 0)});
+      images.push_back({"nearest_photo", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0)});
+    }
+    // Colour per point blends display values of one exposure: not in radiance.
+    if (options.baselines && !in_radiance) {
       if (options.point_colors == "photos") {
         auto& sc = series_colors[v.series];
         if (!sc) {

@@ -4,12 +4,14 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/scene.h"
 #include "eval/report.h"
 #include "gl/shader_library.h"
+#include "hdr/response_curve.h"
 #include "render/renderer.h"
 
 namespace hdribr::eval {
@@ -18,8 +20,13 @@ struct EvalOptions {
   // Leave-one-out: the held-out photos (names); empty = every photo of the chosen series.
   std::vector<std::string> photos;
   // Series name (series.json) or index; empty = the middle series (darkest first); "all" (with
-  // leave-one-out and no photos given) = every photo of every series.
+  // leave-one-out and no photos given) = every photo of every series: with several exposures,
+  // each rendered in radiance from every other photo and re-exposed at its own exposure
+  // (HDR-NeRF's LDR-OE protocol), else from the other photos of its series.
   std::string series;
+  // The response of the re-exposure (the workspace's calib/response.json); absent = calibrated
+  // from the point cloud when needed (render/cloud_calibration.h).
+  std::optional<ResponseCurve> response;
   // Renders and comparisons at the photo (or GT view) size times this factor (0, 1].
   double size_scale = 0.5;
   // Synthetic capture folder: evaluate its GT novel views instead of leave-one-out. The

@@ -88,7 +88,21 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
   EXPECT_THROW(RunEvaluation(scene, shaders, options), UsageError);
   options.depth_source = "auto";
 
+  // --series all with two exposures: every photo rendered in radiance from all the others and
+  // re-exposed at its own exposure (LDR-OE), the response calibrated from the cloud on the fly.
   options.gt_capture.clear();
+  options.series = "all";
+  const EvalReport all = RunEvaluation(scene, shaders, options);
+  std::cout << FormatMeanTable(all);
+  EXPECT_EQ(all.views.size(), scene.photos.size());
+  EXPECT_EQ(all.settings.at("response"), "calibrated from the point cloud");
+  ASSERT_EQ(all.views[0].methods.size(), 3u);  // no colour per point in radiance
+  const std::vector<MethodScores> all_mean = MeanScores(all);
+  EXPECT_EQ(all_mean[2].method, "nearest_photo");
+  EXPECT_GT(all_mean[0].scores.psnr_db, all_mean[2].scores.psnr_db);
+  EXPECT_GT(all_mean[0].scores.psnr_db, 25.0);
+  options.series.clear();
+
   options.photos = {"missing.jpg"};
   EXPECT_THROW(RunEvaluation(scene, shaders, options), UsageError);
 }

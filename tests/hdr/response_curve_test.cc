@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "hdr/exposure_stack.h"
+#include "hdr/re_expose.h"
 #include "io/atomic_file.h"
 #include "test_util.h"
 
@@ -153,6 +154,41 @@ TEST(ShutterTimes, ReadsMemorialStyleAndNamedLines) {
   WriteText(dir / "three.txt", "a b c\n");
   EXPECT_THROW(ReadShutterTimes(dir / "three.txt"), InputError);
   EXPECT_THROW(ReadShutterTimes(dir / "absent.txt"), InputError);
+}
+
+// Re-exposure inverts the response: exp(g(z)) / t exposed for t gives z back for every code of
+// every channel, half-way values round to a neighbour, and the ends clip.
+TEST(ExposeThroughResponse, InvertsTheResponse) {
+  ResponseCurve curve;
+  for (int c = 0; c < 3; ++c) {
+    curve.log_inverse[c].resize(256);
+    for (int z = 0; z < 256; ++z) {
+      curve.log_inverse[c][z] = (2.0 + 0.1 * c) * std::log((z + 0.5) / 128.5);
+    }
+  }
+  const double t = 0.25;
+  cv::Mat radiance(1, 256, CV_32FC3);
+  for (int z = 0; z < 256; ++z) {
+    for (int c = 0; c < 3; ++c) {
+      radiance.at<cv::Vec3f>(0, z)[c] = static_cast<float>(curve.Linear(c, z) / t);
+    }
+  }
+  const cv::Mat out = ExposeThroughResponse(radiance, curve, t);
+  ASSERT_EQ(out.type(), CV_8UC3);
+  for (int z = 0; z < 256; ++z) {
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(out.at<cv::Vec3b>(0, z)[c], z) << z << " " << c;
+  }
+  // Twice the exposure: brighter; far beyond either end: clipped; no radiance: 0.
+  const cv::Mat brighter = ExposeThroughResponse(radiance, curve, 2 * t);
+  EXPECT_GT(brighter.at<cv::Vec3b>(0, 100)[1], 100);
+  cv::Mat extreme(1, 3, CV_32FC3);
+  extreme.at<cv::Vec3f>(0, 0) = cv::Vec3f(1e-12f, 1e-12f, 1e-12f);
+  extreme.at<cv::Vec3f>(0, 1) = cv::Vec3f(1e12f, 1e12f, 1e12f);
+  extreme.at<cv::Vec3f>(0, 2) = cv::Vec3f(0.0f, -1.0f, std::nanf(""));
+  const cv::Mat e = ExposeThroughResponse(extreme, curve, t);
+  EXPECT_EQ(e.at<cv::Vec3b>(0, 0), cv::Vec3b(0, 0, 0));
+  EXPECT_EQ(e.at<cv::Vec3b>(0, 1), cv::Vec3b(255, 255, 255));
+  EXPECT_EQ(e.at<cv::Vec3b>(0, 2), cv::Vec3b(0, 0, 0));
 }
 
 }  // namespace
