@@ -19,10 +19,12 @@
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
+#include "hdr/re_expose.h"
 #include "hdr/response_curve.h"
 #include "io/camera_spec.h"
 #include "io/false_colour.h"
 #include "io/image.h"
+#include "io/radiometric_calibration.h"
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
 #include "render/hdr_render.h"
@@ -53,7 +55,29 @@ struct RenderCliOptions {
   double key = 0.18;
   double gamma = 2.2;
   double log_average = 0;  // 0 = computed per image on the GPU
+  // PNG through the camera's response instead of Reinhard: at this photo's exposure, or at this
+  // exposure time (with the photos' median ISO and aperture).
+  std::string as_photo;
+  double exposure_time = 0;
 };
+
+// Relative exposure (Exposure::Relative() units) of the camera-curve output: --as-photo's
+// photo, or --exposure-time with the median ISO / 100 / N^2 of the photos that have EXIF.
+double ReExposure(const RenderCliOptions& opt, const Scene& scene) {
+  if (!opt.as_photo.empty()) {
+    const int i = scene.FindPhoto(opt.as_photo);
+    if (i < 0) throw UsageError("--as-photo: no photo named '" + opt.as_photo + "'");
+    return scene.RelativeExposureOf(scene.photos[static_cast<size_t>(i)]);
+  }
+  std::vector<double> gains;
+  for (const Photo& p : scene.photos) {
+    if (p.exposure.time_s) gains.push_back(p.exposure.Relative() / *p.exposure.time_s);
+  }
+  if (gains.empty()) gains.push_back(1.0);
+  std::nth_element(gains.begin(), gains.begin() + static_cast<std::ptrdiff_t>(gains.size() / 2),
+                   gains.end());
+  return opt.exposure_time * gains[gains.size() / 2];
+}
 
 // The blended colour as an 8-bit BGRA PNG image: value x 255 rounded (clamped), alpha 255 where
 // valid, everything 0 where invalid. Helper for display encodings of 8-bit photos.
@@ -184,13 +208,23 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
                           : std::filesystem::path(opt.hdr_set);
   std::optional<render::LoadedHdrPhotoSet> set;
   ResponseCurve response;
-  if (!opt.response.empty()) response = ReadResponseCurve(opt.response);
-  if (mode == render::HdrMode::kPrecomputed || opt.response.empty()) {
+  // The response: given, else the workspace's calibration (hdribr calibrate), else the set's.
+  const std::filesystem::path calibrated =
+      std::filesystem::path(opt.workspace) / kCalibFolder / kCalibResponse;
+  std::string response_file = opt.response;
+  if (response_file.empty() && std::filesystem::exists(calibrated)) {
+    response_file = calibrated.string();
+  }
+  if (!response_file.empty()) response = ReadResponseCurve(response_file);
+  if (mode == render::HdrMode::kPrecomputed || response_file.empty()) {
     set = render::LoadHdrPhotoSet(scene, set_dir);  // InputError naming hdr_set.json if absent
   }
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   render::HdrRenderer renderer(shaders, scene, mode, response, opt.renderer, set ? &*set : nullptr);
+  const bool camera_curve = !opt.as_photo.empty() || opt.exposure_time > 0;
+  const double re_exposure = camera_curve ? ReExposure(opt, scene) : 0.0;
+  const ResponseCurve& curve = set && response_file.empty() ? set->response : response;
   render::TonemapPass tonemap(shaders);
   render::TonemapOptions tm;
   tm.key = static_cast<float>(opt.key);
@@ -212,7 +246,9 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
       render::WriteRgbaExr(out, f.hdr.radiance, f.hdr.valid);
     } else {
       cv::Mat bgra;
-      cv::cvtColor(f.display, bgra, cv::COLOR_BGR2BGRA);
+      cv::cvtColor(
+          camera_curve ? ExposeThroughResponse(f.hdr.radiance, curve, re_exposure) : f.display,
+          bgra, cv::COLOR_BGR2BGRA);
       std::vector<cv::Mat> ch;
       cv::split(bgra, ch);
       ch[3] = f.hdr.valid.clone();
@@ -354,8 +390,18 @@ CommandRunner SetupRender(CLI::App& sub) {
       sub.add_option("--gamma", opt->gamma, "Tone mapping: display gamma")->capture_default_str(),
       sub.add_option("--log-average", opt->log_average,
                      "Tone mapping: fixed log-average luminance L_a (0 = per image, on the GPU)")
-          ->capture_default_str()};
+          ->capture_default_str(),
+      sub.add_option("--as-photo", opt->as_photo,
+                     "PNG through the camera's response at this photo's exposure (not Reinhard)"),
+      sub.add_option("--exposure-time", opt->exposure_time,
+                     "PNG through the camera's response at this exposure time in seconds")};
   return [opt, hdr_only] {
+    if (!opt->as_photo.empty() && opt->exposure_time != 0) {
+      throw UsageError("give --as-photo or --exposure-time, not both");
+    }
+    if (!(opt->exposure_time >= 0) || !std::isfinite(opt->exposure_time)) {
+      throw UsageError("--exposure-time must be a positive number of seconds");
+    }
     for (const CLI::Option* o : hdr_only) {
       if (o->count() > 0 && !opt->hdr_mode) {
         throw UsageError(o->get_name() + " applies to HDR renders: add --hdr-mode");

@@ -7,6 +7,9 @@
 #include <regex>
 #include <string>
 
+#include <opencv2/core.hpp>
+
+#include "io/image.h"
 #include "io/radiometric_calibration.h"
 #include "io/workspace.h"
 #include "synth/capture.h"
@@ -66,6 +69,30 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
     ASSERT_TRUE(p.calibrated_exposure.has_value()) << p.name;
     EXPECT_DOUBLE_EQ(scene.RelativeExposureOf(p), c.photos.at(p.name).relative);
   }
+
+  // `render --as-photo`: radiance from every photo through the calibrated response at that
+  // photo's exposure looks like the photo; at another exposure time it is brighter or darker.
+  const fs::path out = test::TempDir("calibrate_cli_render");
+  const std::string photo = scene.photos[13].name;
+  const std::string render = std::string(HDRIBR_EXE) + " -q render " + ws.string() + " --camera " +
+                             photo + " --hdr-mode direct ";
+  auto rr = test::RunCommand(render + "--as-photo " + photo + " --out " +
+                             (out / "as.png").string() + " 2>&1");
+  ASSERT_EQ(rr.exit_code, 0) << rr.output;
+  const cv::Mat as_photo = ReadImage(out / "as.png");
+  const cv::Mat original = ReadImage(ws / "images" / photo);
+  const double psnr = cv::PSNR(as_photo, original);
+  std::cout << "render --as-photo " << photo << ": " << psnr << " dB against the photo\n";
+  EXPECT_GT(psnr, 28.0);
+  const double time = *scene.photos[13].exposure.time_s;
+  rr = test::RunCommand(render + "--exposure-time " + std::to_string(4 * time) + " --out " +
+                        (out / "bright.png").string() + " 2>&1");
+  ASSERT_EQ(rr.exit_code, 0) << rr.output;
+  EXPECT_GT(cv::mean(ReadImage(out / "bright.png"))[1], cv::mean(as_photo)[1] + 20);
+  rr = test::RunCommand(render + "--as-photo nope.jpg --out " + (out / "x.png").string() + " 2>&1");
+  EXPECT_NE(rr.exit_code, 0);
+  EXPECT_NE(rr.output.find("no photo named 'nope.jpg'"), std::string::npos) << rr.output;
+  EXPECT_FALSE(fs::exists(out / "x.png"));
 }
 
 TEST(CalibrateCli, OnePhotoIsOneClearErrorAndWritesNothing) {
