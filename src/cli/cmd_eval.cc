@@ -13,9 +13,11 @@
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "eval/camera_accuracy.h"
+#include "eval/hdr_novel.h"
 #include "eval/leave_one_out.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
+#include "io/atomic_file.h"
 #include "io/colmap_model.h"
 #include "io/radiometric_calibration.h"
 #include "io/workspace.h"
@@ -86,6 +88,15 @@ int Run(const EvalCliOptions& opt) {
   std::printf("%s", eval::FormatMeanTable(report).c_str());
   if (!opt.out.empty()) {
     std::printf("wrote %s/eval.csv, eval.json and views/*.png\n", opt.out.c_str());
+  }
+  // A capture with several exposures: HDR-NeRF's figures at the same GT views.
+  if (!opt.gt.empty() && scene.series.size() >= 2) {
+    const eval::HdrNovelReport hdr = eval::RunHdrNovelEvaluation(scene, shaders, options);
+    std::printf("%s", eval::FormatHdrNovelTable(hdr).c_str());
+    if (!opt.out.empty()) {
+      WriteFileAtomic(std::filesystem::path(opt.out) / "eval_hdr.json",
+                      eval::FormatHdrNovelJson(hdr));
+    }
   }
   return 0;
 }

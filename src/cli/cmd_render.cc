@@ -69,14 +69,7 @@ double ReExposure(const RenderCliOptions& opt, const Scene& scene) {
     if (i < 0) throw UsageError("--as-photo: no photo named '" + opt.as_photo + "'");
     return scene.RelativeExposureOf(scene.photos[static_cast<size_t>(i)]);
   }
-  std::vector<double> gains;
-  for (const Photo& p : scene.photos) {
-    if (p.exposure.time_s) gains.push_back(p.exposure.Relative() / *p.exposure.time_s);
-  }
-  if (gains.empty()) gains.push_back(1.0);
-  std::nth_element(gains.begin(), gains.begin() + static_cast<std::ptrdiff_t>(gains.size() / 2),
-                   gains.end());
-  return opt.exposure_time * gains[gains.size() / 2];
+  return opt.exposure_time * scene.ExposureGain();
 }
 
 // The blended colour as an 8-bit BGRA PNG image: value x 255 rounded (clamped), alpha 255 where

@@ -1,6 +1,7 @@
 #include "core/scene.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace hdribr {
 
@@ -17,6 +18,17 @@ double Scene::RelativeExposureOf(const Photo& photo) const {
     return series[static_cast<size_t>(photo.series_id)].relative_exposure;
   }
   return photo.exposure.Relative();
+}
+
+double Scene::ExposureGain() const {
+  std::vector<double> gains;
+  for (const Photo& p : photos) {
+    if (p.exposure.time_s) gains.push_back(p.exposure.Relative() / *p.exposure.time_s);
+  }
+  if (gains.empty()) return 1.0;
+  std::nth_element(gains.begin(), gains.begin() + static_cast<std::ptrdiff_t>(gains.size() / 2),
+                   gains.end());
+  return gains[gains.size() / 2];
 }
 
 int Scene::NearestPhoto(const Rigid3d& cam_from_world) const {

@@ -34,6 +34,9 @@ struct Scene {
   // Relative exposure of a photo for radiance: its calibrated exposure when the workspace has
   // one, else its series' (shared by the series' photos), else the photo's own EXIF value.
   double RelativeExposureOf(const Photo& photo) const;
+  // Relative exposure per second of exposure time: the median ISO / 100 / N^2 of the photos
+  // with an exposure time (1 without any), to turn a time in seconds into a relative exposure.
+  double ExposureGain() const;
   // Index of the photo whose viewpoint is nearest a view, among `candidates` (indices into
   // photos) or all photos: the smallest |C - C_k| / scene_scale + (1 - d . d_k), with C, d the
   // centres and viewing directions. -1 when there is no candidate.

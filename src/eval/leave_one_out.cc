@@ -11,10 +11,9 @@
 #include "core/error.h"
 #include "eval/gt_views.h"
 #include "eval/point_colors.h"
-#include "hdr/re_expose.h"
+#include "eval/radiance_setup.h"
 #include "io/exr.h"
 #include "io/image.h"
-#include "render/cloud_calibration.h"
 #include "render/point_color_pass.h"
 #include "render/readback.h"
 
@@ -204,38 +203,17 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     response = std::make_unique<synth::SyntheticResponse>(ReadCaptureResponse(options.gt_capture));
   }
   // The response and exposures of the re-exposure: the workspace's calibration, else one from
-  // the point cloud now (the scene's copy then carries its exposures).
-  render::RendererOptions renderer_options = options.renderer;
-  Scene calibrated;
-  const Scene* render_scene = &scene;
-  std::string response_source;
-  if (in_radiance) {
-    renderer_options.response = options.response;
-    response_source = "the workspace's calib/ (hdribr calibrate)";
-    if (!renderer_options.response) {
-      spdlog::info(
-          "no calib/ in the workspace: calibrating from the point cloud (`hdribr "
-          "calibrate` keeps the result)");
-      render::CloudCalibrationOptions co;
-      co.depth = options.renderer.depth;
-      co.depth_cache_dir = options.renderer.depth_cache_dir;
-      const render::CloudCalibrationResult c = render::CalibrateFromCloud(shaders, scene, co);
-      calibrated = scene;
-      for (size_t i = 0; i < calibrated.photos.size(); ++i) {
-        calibrated.photos[i].calibrated_exposure = c.calibration.relative_exposure[i];
-      }
-      render_scene = &calibrated;
-      renderer_options.response = c.calibration.response;
-      response_source = "calibrated from the point cloud";
-    }
-    renderer_options.blend.encoding = render::PhotoEncoding::kRadiance;
-  }
+  // the point cloud now.
+  std::optional<RadianceSetup> setup;
+  if (in_radiance) setup.emplace(scene, shaders, options.response, options.renderer);
+  const Scene* render_scene = setup ? &setup->scene() : &scene;
+  const render::RendererOptions renderer_options =
+      setup ? setup->RendererOptionsFor(options.renderer) : options.renderer;
   // 8-bit image of a rendered value: re-exposed radiance, or display values.
   const auto to_ldr = [&](const cv::Mat& color, const EvalView& v) {
-    if (!in_radiance) return ToLdr8(color);
-    const Photo& photo = render_scene->photos[static_cast<size_t>(v.held_out)];
-    return ExposeThroughResponse(color, *renderer_options.response,
-                                 render_scene->RelativeExposureOf(photo));
+    if (!setup) return ToLdr8(color);
+    return setup->Expose(color, render_scene->RelativeExposureOf(
+                                    render_scene->photos[static_cast<size_t>(v.held_out)]));
   };
   render::Renderer renderer(shaders, *render_scene, renderer_options);
   // The perfect-depth reference: the same blend on the capture's GT depth maps.
@@ -277,7 +255,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
   if (in_radiance) {
     report.settings["protocol"] =
         "LDR-OE: radiance from every other photo, re-exposed at the held-out photo's exposure";
-    report.settings["response"] = response_source;
+    report.settings["response"] = setup->source();
   }
   if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir / "views");
 

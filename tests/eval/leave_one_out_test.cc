@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "eval/hdr_novel.h"
 #include "gl/context.h"
 #include "io/workspace.h"
 #include "synth/capture.h"
@@ -79,6 +80,20 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
     EXPECT_GT(v.methods[1].own_coverage, 0.9 * v.methods[0].own_coverage);
     EXPECT_NEAR(v.methods[1].scores.psnr_db, v.methods[0].scores.psnr_db, 3.0);
   }
+  // HDR-NeRF's figures at the same views: radiance re-exposed at the input and at new
+  // exposures, and the mu-law HDR score.
+  const HdrNovelReport hdr = RunHdrNovelEvaluation(scene, shaders, options);
+  std::cout << FormatHdrNovelTable(hdr);
+  EXPECT_EQ(hdr.oe_times_s.size(), 2u);
+  EXPECT_EQ(hdr.ne_times_s.size(), 3u);
+  ASSERT_EQ(hdr.methods.size(), 2u);
+  EXPECT_EQ(hdr.views, static_cast<int>(gt.views.size()));
+  EXPECT_GT(hdr.methods[0].ldr_oe.psnr_db, 25.0);
+  EXPECT_GT(hdr.methods[0].ldr_ne.psnr_db, 25.0);
+  EXPECT_GT(hdr.methods[0].hdr.psnr_db, 25.0);
+  EXPECT_LT(hdr.methods[0].log_ratio, 0.1);
+  EXPECT_GT(hdr.methods[0].ldr_oe.psnr_db, hdr.methods[1].ldr_oe.psnr_db);
+
   // "gt" on a workspace whose cameras are not the capture's is refused.
   Scene moved = scene;
   moved.photos[0].cam_from_world.translation.x() += 0.1;
