@@ -33,9 +33,11 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_option("--series", opt->series, "LDR: blend only this exposure series (-1 = all)")
       ->capture_default_str();
   AddRendererOptions(sub, opt->renderer, *no_depth_cache);
-  sub.add_option("--tonemap", *tonemap, "Reinhard tone mapping: auto (on for HDR), on, off")
+  sub.add_option("--tonemap", *tonemap,
+                 "Tone mapping: auto (Reinhard on for HDR), on, off, camera (HDR: the camera's "
+                 "response, EV 0 = the median photo's exposure)")
       ->default_val("auto")
-      ->check(CLI::IsMember({"auto", "on", "off"}));
+      ->check(CLI::IsMember({"auto", "on", "off", "camera"}));
   sub.add_option("--exposure", opt->exposure_ev, "Exposure in EV (stops)")->default_val(0);
   sub.add_option("--key", opt->key, "Reinhard key")->default_val(0.18);
   sub.add_option("--gamma", *gamma, "Display gamma (default 2.2 for HDR, 1 for LDR)");
@@ -62,7 +64,11 @@ CommandRunner SetupView(CLI::App& sub) {
       ->check(kAtLeastZero)
       ->group("");
   return [opt, tonemap, gamma, no_depth_cache] {
-    if (*tonemap != "auto") opt->tonemap = *tonemap == "on";
+    if (*tonemap == "camera") {
+      opt->camera_curve = true;
+    } else if (*tonemap != "auto") {
+      opt->tonemap = *tonemap == "on";
+    }
     if (*gamma != 0) {
       if (!(*gamma >= 0.1f && *gamma <= 10)) throw UsageError("--gamma must be in [0.1, 10]");
       opt->gamma = *gamma;

@@ -13,6 +13,7 @@
 #include "render/photo_depth_maps.h"
 #include "render/photo_textures.h"
 #include "render/readback.h"
+#include "render/response_lut.h"
 
 namespace hdribr::render {
 
@@ -71,21 +72,7 @@ struct Renderer::Impl {
     options.photo_depths.shrink_to_fit();
     blend.SetPhotos(scene, textures, depth_maps);
     SetAll();
-    if (options.response) {
-      if (!options.response->IsValid()) throw UsageError("the response curve is not valid");
-      std::vector<float> lut(256 * 3);
-      for (int z = 0; z < 256; ++z) {
-        for (int c = 0; c < 3; ++c) {  // BGR curve -> RGB texel
-          lut[static_cast<size_t>(z * 3 + c)] = static_cast<float>(
-              options.response->log_inverse[static_cast<size_t>(2 - c)][static_cast<size_t>(z)]);
-        }
-      }
-      response = gl::Texture::Create2D(GL_RGB32F, 256, 1);
-      glTextureParameteri(response.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTextureParameteri(response.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-      glTextureSubImage2D(response.id(), 0, 0, 0, 256, 1, GL_RGB, GL_FLOAT, lut.data());
-    }
+    if (options.response) response = MakeResponseLut(*options.response);
   }
 
   static DepthPassOptions WithPoints(DepthPassOptions o) { return o; }

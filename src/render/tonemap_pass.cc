@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "render/response_lut.h"
 
 namespace hdribr::render {
 
@@ -18,6 +19,7 @@ struct TonemapPass::Impl {
   gl::Buffer partials;
   size_t partial_capacity = 0;
   std::optional<double> history;  // smoothed L_a of the previous frame
+  gl::Texture response;           // SetResponse's LUT, empty before
   gl::TimestampQuery start, end;
   bool timed = false;
   double last_ms = 0;
@@ -81,9 +83,12 @@ float TonemapPass::Apply(const gl::Texture& hdr, const TonemapOptions& options,
   }
   impl_->start.Stamp();
   double l_a = 1.0;
+  if (options.camera_curve && !impl_->response) {
+    throw UsageError("tone mapping through the camera's response needs a response curve");
+  }
   if (options.fixed_log_average) {
     l_a = *options.fixed_log_average;
-  } else if (options.enabled) {
+  } else if (options.enabled && !options.camera_curve) {
     l_a = LogAverage(hdr, options.epsilon);
     if (options.smoothing > 0 && impl_->history) {
       const double s = std::clamp(static_cast<double>(options.smoothing), 0.0, 1.0);
@@ -96,6 +101,8 @@ float TonemapPass::Apply(const gl::Texture& hdr, const TonemapOptions& options,
   glUniform1f(impl_->map.Uniform("u_exposure"), options.exposure);
   glUniform1f(impl_->map.Uniform("u_inv_gamma"), 1.0f / options.gamma);
   glUniform1i(impl_->map.Uniform("u_reinhard"), options.enabled ? 1 : 0);
+  glUniform1i(impl_->map.Uniform("u_camera"), options.camera_curve ? 1 : 0);
+  if (options.camera_curve) glBindTextureUnit(2, impl_->response.id());
   glBindImageTexture(0, hdr.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
   glBindImageTexture(1, display.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, display.format());
   glDispatchCompute(static_cast<GLuint>(Groups(hdr.width())),
@@ -106,6 +113,12 @@ float TonemapPass::Apply(const gl::Texture& hdr, const TonemapOptions& options,
   impl_->timed = true;
   return static_cast<float>(l_a);
 }
+
+void TonemapPass::SetResponse(const ResponseCurve& response) {
+  impl_->response = MakeResponseLut(response);
+}
+
+bool TonemapPass::has_response() const { return static_cast<bool>(impl_->response); }
 
 void TonemapPass::ResetHistory() { impl_->history.reset(); }
 

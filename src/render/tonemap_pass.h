@@ -8,6 +8,7 @@
 
 #include "gl/objects.h"
 #include "gl/shader_library.h"
+#include "hdr/response_curve.h"
 
 namespace hdribr::render {
 
@@ -21,6 +22,10 @@ struct TonemapOptions {
   // Temporal smoothing of L_a across frames: L_a = mix(previous, current, 1 - smoothing);
   // 0 = none (offline renders), ~0.9 in the viewer against flicker.
   float smoothing = 0.0f;
+  // The camera's response (TonemapPass::SetResponse) at `exposure` (relative exposure per
+  // radiance unit) instead of Reinhard: the picture that camera would take; key, gamma and L_a
+  // unused.
+  bool camera_curve = false;
 };
 
 class TonemapPass {
@@ -38,6 +43,10 @@ class TonemapPass {
   // Tone-maps `hdr` (RGBA32F) into `display` (RGBA8, or RGBA16F/RGBA32F for exact comparisons;
   // same size; invalid pixels get alpha 0 and colour 0). Returns the L_a used.
   float Apply(const gl::Texture& hdr, const TonemapOptions& options, gl::Texture& display);
+
+  // The response of TonemapOptions::camera_curve. Throws UsageError for an invalid curve.
+  void SetResponse(const ResponseCurve& response);
+  bool has_response() const;
 
   // Forgets the smoothed L_a (next Apply starts afresh).
   void ResetHistory();

@@ -184,7 +184,7 @@ int ViewerApp::Run() {
     paths_.Advance(now_s_, opt_.frames > 0 ? frame_ : -1, controller_);
     paths_.Record(now_s_, controller_.cam_from_world());
     DrawUi(state_, {&scene_, &renderer_->stats(), fps_, renderer_->point_colours_known(),
-                    paths_.recording()});
+                    paths_.recording(), renderer_->has_camera_curve()});
     renderer_->Load(state_);
     renderer_->Render(state_, controller_.cam_from_world(), fw, fh);
     renderer_->Blit(fw, fh, state_.frustums, state_.current_photo);

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "io/image.h"
+#include "io/radiometric_calibration.h"
 #include "render/render_output.h"
 
 namespace hdribr::viewer {
@@ -55,6 +57,14 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Camera& camera,
       frustum_pass_(shaders_),
       point_pass_(shaders_) {
   frustum_pass_.SetLines(MakeFrustumLines(scene_, 0.15 * scene_.scene_scale));
+  std::vector<double> exposures;
+  for (const Photo& p : scene_.photos) exposures.push_back(scene_.RelativeExposureOf(p));
+  if (!exposures.empty()) {
+    std::nth_element(exposures.begin(),
+                     exposures.begin() + static_cast<std::ptrdiff_t>(exposures.size() / 2),
+                     exposures.end());
+    median_exposure_ = exposures[exposures.size() / 2];
+  }
   // The cloud's sRGB colours (BGR, 0..1); grey when it has none.
   const PointCloud& cloud = scene_.points;
   point_colours_known_ = cloud.HasColors();
@@ -91,12 +101,22 @@ void FrameRenderer::Load(ViewState& state) {
     if (s.source == HdrSource::kLdr) {
       ldr_ = std::make_unique<render::Renderer>(shaders_, scene_, ro);
     } else {
-      if (!set_) {
-        set_ = std::make_unique<render::LoadedHdrPhotoSet>(
-            render::LoadHdrPhotoSet(scene_, workspace_ / render::kHdrSetFolder));
+      // The workspace's calibration (hdribr calibrate) when there is one, else the set's.
+      const std::filesystem::path calibrated = workspace_ / kCalibFolder / kCalibResponse;
+      const bool own = s.source != HdrSource::kPrecomputed && std::filesystem::exists(calibrated);
+      ResponseCurve response;
+      if (own) {
+        response = ReadResponseCurve(calibrated);
+      } else {
+        if (!set_) {
+          set_ = std::make_unique<render::LoadedHdrPhotoSet>(
+              render::LoadHdrPhotoSet(scene_, workspace_ / render::kHdrSetFolder));
+        }
+        response = set_->response;
       }
-      hdr_ = std::make_unique<render::HdrRenderer>(shaders_, scene_, HdrModeOf(s.source),
-                                                   set_->response, ro, set_.get());
+      hdr_ = std::make_unique<render::HdrRenderer>(shaders_, scene_, HdrModeOf(s.source), response,
+                                                   ro, own ? nullptr : set_.get());
+      tonemap_pass_.SetResponse(response);
     }
     std::printf("loaded in %.1f s, GPU memory %.1f MiB\n",
                 std::chrono::duration<double>(Clock::now() - t0).count(),
@@ -182,6 +202,10 @@ void FrameRenderer::ToneMap(const ViewState& state) {
       render::TonemapOptions o = state.tonemap;
       o.exposure = std::exp2(state.exposure_ev);
       if (!state.auto_la) o.fixed_log_average = state.fixed_la;
+      if (state.camera_curve && has_camera_curve()) {
+        o.camera_curve = true;  // relative exposure per target unit
+        o.exposure = static_cast<float>(median_exposure_ * o.exposure / hdr_->target_scale());
+      }
       stats_.last_la = tonemap_pass_.Apply(target_.color, o, display_);
       stats_.tonemap_gpu_ms = tonemap_pass_.last_ms();
       break;

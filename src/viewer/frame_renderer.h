@@ -72,6 +72,8 @@ class FrameRenderer {
   int height() const { return target_.height(); }
   const FrameStats& stats() const { return stats_; }
   bool point_colours_known() const { return point_colours_known_; }
+  // True when the loaded source has a camera response (ViewState::camera_curve can be shown).
+  bool has_camera_curve() const { return hdr_ && tonemap_pass_.has_response(); }
   size_t photo_count() const;  // photos the current renderer blends from
 
  private:
@@ -94,6 +96,7 @@ class FrameRenderer {
   FrustumPass frustum_pass_;
   render::PointColorPass point_pass_;
   bool point_colours_known_ = true;  // false: the cloud has no colours (grey splats)
+  double median_exposure_ = 1;       // relative exposure of EV 0 through the camera curve
   render::RenderTarget target_;
   gl::Texture display_;  // what the screenshot saves: the picture without overlays
   gl::Framebuffer display_fb_;

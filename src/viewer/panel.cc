@@ -61,12 +61,15 @@ void DrawLegend(const ViewState& state, const PanelInfo& info) {
   }
 }
 
-void DrawToneMapping(ViewState& state, const FrameStats& stats) {
+void DrawToneMapping(ViewState& state, const FrameStats& stats, bool camera_curve) {
   bool changed = false;
   changed |= ImGui::SliderFloat("exposure (EV)", &state.exposure_ev, -8, 8, "%.2f");
   changed |= ImGui::SliderFloat("key", &state.tonemap.key, 0.01f, 1.0f, "%.3f");
   changed |= ImGui::SliderFloat("gamma", &state.tonemap.gamma, 1.0f, 3.0f, "%.2f");
   changed |= ImGui::Checkbox("tone mapping (Reinhard)", &state.tonemap.enabled);
+  if (camera_curve) {
+    changed |= ImGui::Checkbox("camera's response (EV 0 = median photo)", &state.camera_curve);
+  }
   if (ImGui::Checkbox("auto L_a", &state.auto_la)) {
     state.fixed_la = stats.last_la;
     changed = true;
@@ -125,7 +128,7 @@ void DrawPanel(ViewState& state, const PanelInfo& info) {
               stats.last_la);
   ImGui::Text("candidates %d of %d photos (chosen in %.2f ms)", stats.candidates, stats.active,
               stats.candidates_ms);
-  DrawToneMapping(state, stats);
+  DrawToneMapping(state, stats, info.camera_curve);
   ImGui::Separator();
   DrawSettings(state, *info.scene);
   DrawLegend(state, info);

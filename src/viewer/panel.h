@@ -15,6 +15,7 @@ struct PanelInfo {
   double fps = 0;
   bool point_colours_known = true;
   bool recording = false;
+  bool camera_curve = false;  // the loaded source has a camera response
 };
 
 // The panel (when state.panel) and the help overlay (when state.help); edits go to `state`.

@@ -1,5 +1,7 @@
 #include "viewer/view_state.h"
 
+#include "io/radiometric_calibration.h"
+
 #include "core/error.h"
 #include "render/hdr_photo_set.h"
 #include "viewer/viewer_options.h"
@@ -85,7 +87,9 @@ HdrSource ResolveHdrSource(HdrSource source, const std::filesystem::path& worksp
   if (source != HdrSource::kAuto) return source;
   const bool has_set =
       std::filesystem::exists(workspace / render::kHdrSetFolder / render::kHdrSetIndex);
-  return has_set ? HdrSource::kPrecomputed : HdrSource::kLdr;
+  if (has_set) return HdrSource::kPrecomputed;
+  return std::filesystem::exists(workspace / kCalibFolder / kCalibResponse) ? HdrSource::kDirect
+                                                                            : HdrSource::kLdr;
 }
 
 render::HdrMode HdrModeOf(HdrSource source) {
@@ -128,6 +132,7 @@ ViewState InitialViewState(const ViewerOptions& options, const Scene& scene) {
   state.tonemap.key = options.key;
   state.tonemap.smoothing = options.frames > 0 ? 0.0f : 0.9f;  // scripted frames: no history
   state.exposure_ev = options.exposure_ev;
+  state.camera_curve = options.camera_curve && hdr;
   state.frustums = options.show_frustums;
   state.help = options.show_help;
   state.panel = !options.hide_panel;

@@ -35,7 +35,8 @@ std::string HdrSourceName(HdrSource source);
 const char* DisplayModeCombo();
 const char* HdrSourceCombo();
 
-// kAuto: precomputed when the workspace has an HDR photo set, else ldr; others unchanged.
+// kAuto: precomputed when the workspace has an HDR photo set, else direct when it has a
+// radiometric calibration (hdribr calibrate), else ldr; others unchanged.
 HdrSource ResolveHdrSource(HdrSource source, const std::filesystem::path& workspace);
 // The HDR render mode of a resolved HDR source (not kAuto or kLdr).
 render::HdrMode HdrModeOf(HdrSource source);
@@ -60,7 +61,10 @@ struct ViewState {
   render::TonemapOptions tonemap;  // its exposure is set from exposure_ev at each tone map
   float exposure_ev = 0;
   bool auto_la = true;  // false: tone-map with fixed_la instead of the image's log-average
-  float fixed_la = 1;   // radiance target units
+  // HDR: the camera's response at exposure_ev stops from the photos' median exposure instead
+  // of Reinhard (what that camera would take).
+  bool camera_curve = false;
+  float fixed_la = 1;  // radiance target units
   bool frustums = false, help = false, panel = true;
   int current_photo = 0;  // the photo last snapped to (N, [ ])
   std::string status;     // the panel's last line

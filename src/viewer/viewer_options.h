@@ -24,6 +24,8 @@ struct ViewerOptions {
   // Tone mapping; unset = the source's default (Reinhard on with gamma 2.2 for HDR, off with
   // gamma 1 for LDR photos, whose values are already display-encoded).
   std::optional<bool> tonemap;
+  // HDR: show the radiance through the camera's response instead (TonemapOptions::camera_curve).
+  bool camera_curve = false;
   float exposure_ev = 0;
   float key = 0.18f;
   std::optional<float> gamma;

@@ -3,12 +3,17 @@
 // workspace; a workspace that cannot be calibrated gives one clear error and writes nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <string>
 
 #include <opencv2/core.hpp>
 
+#include "cli_capture.h"
+#include "hdr/re_expose.h"
+#include "hdr/response_curve.h"
+#include "io/exr.h"
 #include "io/image.h"
 #include "io/radiometric_calibration.h"
 #include "io/workspace.h"
@@ -93,6 +98,31 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
   EXPECT_NE(rr.exit_code, 0);
   EXPECT_NE(rr.output.find("no photo named 'nope.jpg'"), std::string::npos) << rr.output;
   EXPECT_FALSE(fs::exists(out / "x.png"));
+
+  // The viewer opens the calibrated workspace on its radiance (direct) and, with --tonemap
+  // camera, shows it through the response at the photos' median exposure: its screenshot is the
+  // CPU re-exposure of its own linear EXR.
+  if (!test::HaveXvfb()) GTEST_SKIP() << "xvfb-run missing: viewer part skipped";
+  const auto v =
+      test::RunUnderXvfb(std::string(HDRIBR_EXE) + " view " + ws.string() + " --camera " + photo +
+                         " --tonemap camera --screenshot " + (out / "view.png").string() + " 2>&1");
+  ASSERT_EQ(v.exit_code, 0) << v.output;
+  EXPECT_NE(v.output.find("(direct)"), std::string::npos) << v.output;
+  std::vector<double> exposures;
+  for (const Photo& p : scene.photos) exposures.push_back(scene.RelativeExposureOf(p));
+  std::nth_element(exposures.begin(), exposures.begin() + exposures.size() / 2, exposures.end());
+  const cv::Mat radiance = ReadExr(out / "view.exr");
+  const cv::Mat want =
+      ExposeThroughResponse(radiance, ReadResponseCurve(ws / kCalibFolder / kCalibResponse),
+                            exposures[exposures.size() / 2]);
+  const cv::Mat got = ReadImage(out / "view.png");
+  ASSERT_EQ(got.size(), want.size());
+  cv::Mat diff;
+  cv::absdiff(got, want, diff);
+  double worst = 0;
+  cv::minMaxLoc(diff.reshape(1), nullptr, &worst);
+  EXPECT_LE(worst, 1.0);
+  EXPECT_GT(cv::mean(got)[1], 20.0);
 }
 
 TEST(CalibrateCli, OnePhotoIsOneClearErrorAndWritesNothing) {

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "gl_test_util.h"
+#include "hdr/re_expose.h"
 #include "hdr/tonemap.h"
 
 namespace hdribr::render {
@@ -151,6 +152,48 @@ TEST_F(TonemapPassTest, FixedLogAverageSmoothingAndRgba8) {
   EXPECT_NEAR(got.at<cv::Vec3f>(0, 0)[2], 0.5, 0.5 / 255 + 1e-6);
   opt.gamma = 0.0f;
   EXPECT_THROW(pass.Apply(bright, opt, display), UsageError);
+}
+
+// Through the camera's response: the GPU codes are the CPU re-exposure's (hdr/re_expose.h),
+// at most one code apart where float and double logarithms round differently.
+TEST_F(TonemapPassTest, CameraCurveMatchesTheCpuReExposure) {
+  cv::Mat hdr, valid;
+  MakeHdr(hdr, valid);
+  ResponseCurve curve;
+  for (int c = 0; c < 3; ++c) {
+    curve.log_inverse[c].resize(256);
+    for (int z = 0; z < 256; ++z) {
+      curve.log_inverse[c][z] = (2.0 + 0.2 * c) * std::log((z + 0.5) / 128.5) + 0.1 * c;
+    }
+  }
+  const gl::Texture tex = Upload(hdr, valid);
+  TonemapPass pass(*shaders_);
+  gl::Texture display = gl::Texture::Create2D(GL_RGBA32F, hdr.cols, hdr.rows);
+  TonemapOptions o;
+  o.camera_curve = true;
+  o.exposure = 0.5f;
+  EXPECT_THROW(pass.Apply(tex, o, display), UsageError);  // no response yet
+  pass.SetResponse(curve);
+  pass.Apply(tex, o, display);
+  const cv::Mat want = ExposeThroughResponse(hdr, curve, 0.5);
+  cv::Mat alpha;
+  const cv::Mat got = ReadBgra(display, &alpha);
+  int differ = 0, worst = 0, mid = 0;
+  for (int y = 0; y < hdr.rows; ++y) {
+    for (int x = 0; x < hdr.cols; ++x) {
+      if (!valid.at<uint8_t>(y, x)) continue;
+      for (int c = 0; c < 3; ++c) {
+        const int g = static_cast<int>(std::lround(got.at<cv::Vec3f>(y, x)[c] * 255.0f));
+        const int w = want.at<cv::Vec3b>(y, x)[c];
+        differ += g != w;
+        worst = std::max(worst, std::abs(g - w));
+        mid += w > 5 && w < 250;
+      }
+    }
+  }
+  EXPECT_LE(worst, 1);
+  EXPECT_LE(differ, static_cast<int>(0.001 * hdr.total() * 3));
+  EXPECT_GT(mid, static_cast<int>(0.2 * hdr.total()));  // not only clipped values compared
 }
 
 }  // namespace
