@@ -18,16 +18,21 @@ const FlagNames& CaptureFlags() {
 }
 
 const FlagNames& ReconstructFlags() {
-  static const FlagNames flags = {{"max_features", "--max-features"},
-                                  {"sift_max_size", "--sift-size"},
-                                  {"undistort_max_size", "--image-size"},
-                                  {"dense_options.max_size", "--dense-size"},
-                                  {"dense_options.num_depths", "--dense-depths"},
-                                  {"dense_options.num_neighbors", "--dense-neighbors"},
-                                  {"threads", "--threads"},
-                                  {"vocab_tree", "--vocab-tree"},
-                                  {"dense", "--dense"},
-                                  {"matching", "--matching"}};
+  static const FlagNames flags = {
+      {"max_features", "--max-features"},
+      {"sift_max_size", "--sift-size"},
+      {"undistort_max_size", "--image-size"},
+      {"dense_options.max_size", "--dense-size"},
+      {"dense_options.num_depths", "--dense-depths"},
+      {"dense_options.num_neighbors", "--dense-neighbors"},
+      {"dense_options.patch_match.num_levels", "--dense-levels"},
+      {"dense_options.patch_match.iterations", "--dense-iterations"},
+      {"dense_options.patch_match.geom_iterations", "--dense-geom-iterations"},
+      {"dense_options.patch_match.min_ncc", "--dense-min-ncc"},
+      {"threads", "--threads"},
+      {"vocab_tree", "--vocab-tree"},
+      {"dense", "--dense"},
+      {"matching", "--matching"}};
   return flags;
 }
 

@@ -45,11 +45,26 @@ CommandRunner SetupReconstruct(CLI::App& sub) {
   sub.add_option("--image-size", opt->undistort_max_size,
                  "Largest side of the workspace's undistorted photos (-1: as shot)")
       ->capture_default_str();
-  sub.add_option("--dense", opt->dense, "auto (COLMAP with CUDA, else cpu), cpu, colmap, none")
+  sub.add_option("--dense", opt->dense,
+                 "auto (COLMAP with CUDA, else cpu), cpu (PatchMatch stereo), sweep (plane sweep), "
+                 "colmap, none")
       ->capture_default_str();
   sub.add_option("--dense-size", opt->dense_options.max_size, "Largest side of the CPU depth maps")
       ->capture_default_str();
-  sub.add_option("--dense-depths", opt->dense_options.num_depths, "Planes swept per depth map")
+  sub.add_option("--dense-depths", opt->dense_options.num_depths,
+                 "Planes swept per depth map (sweep)")
+      ->capture_default_str();
+  sub.add_option("--dense-levels", opt->dense_options.patch_match.num_levels,
+                 "PatchMatch pyramid levels (coarse to fine)")
+      ->capture_default_str();
+  sub.add_option("--dense-iterations", opt->dense_options.patch_match.iterations,
+                 "PatchMatch iterations per finer level")
+      ->capture_default_str();
+  sub.add_option("--dense-geom-iterations", opt->dense_options.patch_match.geom_iterations,
+                 "PatchMatch iterations with geometric consistency (0: none)")
+      ->capture_default_str();
+  sub.add_option("--dense-min-ncc", opt->dense_options.patch_match.min_ncc,
+                 "PatchMatch: NCC needed to keep a depth")
       ->capture_default_str();
   sub.add_option("--dense-neighbors", opt->dense_options.num_neighbors,
                  "Source photos per depth map")

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "frontend/ncc.h"
+#include "frontend/patch_match.h"
 #include "io/image.h"
 
 namespace hdribr {
@@ -50,6 +51,71 @@ void ParallelFor(int n, int threads, F&& f) {
   }
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);
+}
+
+// Unit plane normal of a depth map's pixel in world space, or zero when the map has none.
+Eigen::Vector3d WorldNormal(const DepthMap& m, const Rigid3d& world_from_cam, int x, int y) {
+  if (m.normal.empty()) return Eigen::Vector3d::Zero();
+  const cv::Vec3f n = m.normal.at<cv::Vec3f>(y, x);
+  return world_from_cam.rotation * Eigen::Vector3d(n[0], n[1], n[2]);
+}
+
+// Geometric consistency and fusion of one depth map: a depth survives when at least
+// min_consistent of its source photos' depth maps see the same surface within `consistency`
+// relative depth (and, with plane normals, max_normal_error); the fused point averages the
+// agreeing back-projections (and normals).
+DenseResult FuseDepthMap(const std::vector<DepthMap>& maps, const std::map<int, int>& index, int i,
+                         const DenseOptions& options) {
+  DenseResult out;
+  const DepthMap& ref = maps[i];
+  if (ref.depth.empty()) return out;
+  const Rigid3d world_from_ref = ref.cam_from_world.Inverse();
+  const Eigen::Vector3d ref_center = world_from_ref.translation;
+  const bool with_normals = !ref.normal.empty();
+  const double min_normal_cos = std::cos(options.max_normal_error * M_PI / 180.0);
+  for (int y = 0; y < ref.depth.rows; ++y) {
+    for (int x = 0; x < ref.depth.cols; ++x) {
+      const float z = ref.depth.at<float>(y, x);
+      if (z <= 0) continue;
+      const Eigen::Vector3d xw =
+          world_from_ref * (ref.camera.CamFromPixel({x + 0.5, y + 0.5}) * double(z));
+      Eigen::Vector3d sum = xw;
+      Eigen::Vector3d dir = (ref_center - xw).normalized();
+      const Eigen::Vector3d ref_normal = WorldNormal(ref, world_from_ref, x, y);
+      Eigen::Vector3d normal = ref_normal;
+      int agree = 0;
+      for (int nid : ref.neighbors) {
+        const DepthMap& nb = maps[index.at(nid)];
+        if (nb.depth.empty()) continue;
+        const Eigen::Vector3d pc = nb.cam_from_world * xw;
+        if (pc.z() <= 0) continue;
+        const Eigen::Vector2d px = nb.camera.PixelFromCam(pc);
+        const int u = static_cast<int>(std::floor(px.x())),
+                  v = static_cast<int>(std::floor(px.y()));
+        if (u < 0 || v < 0 || u >= nb.depth.cols || v >= nb.depth.rows) continue;
+        const float zn = nb.depth.at<float>(v, u);
+        if (zn <= 0 || std::abs(zn - pc.z()) > options.consistency * pc.z()) continue;
+        const Rigid3d world_from_nb = nb.cam_from_world.Inverse();
+        const Eigen::Vector3d nb_normal = WorldNormal(nb, world_from_nb, u, v);
+        if (with_normals && nb_normal.dot(ref_normal) < min_normal_cos) continue;
+        ++agree;
+        sum += world_from_nb * (nb.camera.CamFromPixel(px) * double(zn));
+        dir += (world_from_nb.translation - xw).normalized();
+        normal += nb_normal;
+      }
+      if (agree < options.min_consistent) continue;
+      const Eigen::Vector3d p = sum / (agree + 1);
+      out.cloud.positions.push_back(p.cast<float>());
+      const cv::Vec3b c = ref.color.at<cv::Vec3b>(y, x);
+      out.cloud.colors.push_back({c[2], c[1], c[0]});
+      out.view_dirs.push_back(dir.normalized().cast<float>());
+      if (with_normals) {
+        out.cloud.normals.push_back(
+            (normal.norm() > 0 ? normal.normalized() : dir.normalized()).cast<float>());
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -206,8 +272,8 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
     if (it != neighbors.end()) m.neighbors = it->second;
   });
 
-  // Depth range of each photo from the sparse points it sees.
-  std::vector<std::pair<double, double>> ranges(n, {0.0, 0.0});
+  // Depth range of each photo from the sparse points it sees; they also seed PatchMatch.
+  std::vector<PatchMatchTask> tasks(n);
   for (int i = 0; i < n; ++i) {
     const ColmapImage& im = model.images.at(ids[i]);
     std::vector<double> z;
@@ -215,82 +281,53 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
       if (p2.point3d_id < 0) continue;
       auto it = model.points3d.find(p2.point3d_id);
       if (it == model.points3d.end()) continue;
-      const double d = (im.cam_from_world * it->second.xyz).z();
-      if (d > 0) z.push_back(d);
+      const Eigen::Vector3d pc = im.cam_from_world * it->second.xyz;
+      if (pc.z() <= 0) continue;
+      z.push_back(pc.z());
+      tasks[i].seeds.push_back(pc);
     }
+    for (int nid : maps[i].neighbors) tasks[i].sources.push_back(index.at(nid));
     if (z.size() < 10) continue;
     std::sort(z.begin(), z.end());
     const double lo = z[z.size() * 2 / 100], hi = z[z.size() * 98 / 100];
-    ranges[i] = {0.75 * lo, 1.25 * hi};
+    tasks[i].depth_min = 0.75 * lo;
+    tasks[i].depth_max = 1.25 * hi;
   }
 
-  std::atomic<int> done{0};
-  std::mutex progress_mutex;
-  ParallelFor(n, threads, [&](int i) {
-    std::vector<const DepthMap*> sources;
-    for (int nid : maps[i].neighbors) sources.push_back(&maps[index.at(nid)]);
-    if (!sources.empty() && ranges[i].second > 0) {
-      DepthMap out = ComputeDepthMap(maps[i], sources, ranges[i].first, ranges[i].second, options);
-      maps[i].depth = out.depth;
-      maps[i].score = out.score;
-    }
-    const int d = ++done;
-    if (progress) {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      progress(d, n);
-    }
-  });
-
-  // Geometric consistency and fusion: a depth survives when at least min_consistent of its
-  // source photos' depth maps see the same surface within `consistency` relative depth; the
-  // fused point averages the agreeing back-projections.
-  std::vector<DenseResult> partial(n);
-  ParallelFor(n, threads, [&](int i) {
-    const DepthMap& ref = maps[i];
-    if (ref.depth.empty()) return;
-    const Rigid3d world_from_ref = ref.cam_from_world.Inverse();
-    const Eigen::Vector3d ref_center = world_from_ref.translation;
-    DenseResult& out = partial[i];
-    for (int y = 0; y < ref.depth.rows; ++y) {
-      for (int x = 0; x < ref.depth.cols; ++x) {
-        const float z = ref.depth.at<float>(y, x);
-        if (z <= 0) continue;
-        const Eigen::Vector3d xw =
-            world_from_ref * (ref.camera.CamFromPixel({x + 0.5, y + 0.5}) * double(z));
-        Eigen::Vector3d sum = xw;
-        Eigen::Vector3d dir = (ref_center - xw).normalized();
-        int agree = 0;
-        for (int nid : ref.neighbors) {
-          const DepthMap& nb = maps[index.at(nid)];
-          if (nb.depth.empty()) continue;
-          const Eigen::Vector3d pc = nb.cam_from_world * xw;
-          if (pc.z() <= 0) continue;
-          const Eigen::Vector2d px = nb.camera.PixelFromCam(pc);
-          const int u = static_cast<int>(std::floor(px.x())),
-                    v = static_cast<int>(std::floor(px.y()));
-          if (u < 0 || v < 0 || u >= nb.depth.cols || v >= nb.depth.rows) continue;
-          const float zn = nb.depth.at<float>(v, u);
-          if (zn <= 0 || std::abs(zn - pc.z()) > options.consistency * pc.z()) continue;
-          ++agree;
-          const Rigid3d world_from_nb = nb.cam_from_world.Inverse();
-          sum += world_from_nb * (nb.camera.CamFromPixel(px) * double(zn));
-          dir += (world_from_nb.translation - xw).normalized();
-        }
-        if (agree < options.min_consistent) continue;
-        const Eigen::Vector3d p = sum / (agree + 1);
-        out.cloud.positions.push_back(p.cast<float>());
-        const cv::Vec3b c = ref.color.at<cv::Vec3b>(y, x);
-        out.cloud.colors.push_back({c[2], c[1], c[0]});
-        out.view_dirs.push_back(dir.normalized().cast<float>());
+  if (options.method == DenseMethod::kPatchMatch) {
+    DenseOptions o = options;
+    o.threads = threads;
+    PatchMatchDepthMaps(maps, tasks, o, progress);
+  } else {
+    std::atomic<int> done{0};
+    std::mutex progress_mutex;
+    ParallelFor(n, threads, [&](int i) {
+      std::vector<const DepthMap*> sources;
+      for (int s : tasks[i].sources) sources.push_back(&maps[s]);
+      if (!sources.empty() && tasks[i].depth_max > 0) {
+        DepthMap out =
+            ComputeDepthMap(maps[i], sources, tasks[i].depth_min, tasks[i].depth_max, options);
+        maps[i].depth = out.depth;
+        maps[i].score = out.score;
       }
-    }
-  });
+      const int d = ++done;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        progress(d, n);
+      }
+    });
+  }
+
+  std::vector<DenseResult> partial(n);
+  ParallelFor(n, threads, [&](int i) { partial[i] = FuseDepthMap(maps, index, i, options); });
   DenseResult result;
   for (auto& p : partial) {
     result.cloud.positions.insert(result.cloud.positions.end(), p.cloud.positions.begin(),
                                   p.cloud.positions.end());
     result.cloud.colors.insert(result.cloud.colors.end(), p.cloud.colors.begin(),
                                p.cloud.colors.end());
+    result.cloud.normals.insert(result.cloud.normals.end(), p.cloud.normals.begin(),
+                                p.cloud.normals.end());
     result.view_dirs.insert(result.view_dirs.end(), p.view_dirs.begin(), p.view_dirs.end());
   }
   for (const auto& m : maps) result.num_depth_maps += m.depth.empty() ? 0 : 1;

@@ -1,5 +1,6 @@
-// Built-in CPU multi-view stereo (used when COLMAP has no CUDA): fronto-parallel plane sweep with
-// NCC photo-consistency per photo, geometric consistency filtering across photos, fusion.
+// Built-in CPU multi-view stereo (used when COLMAP has no CUDA): per-photo depth maps by PatchMatch
+// (frontend/patch_match.h) or a fronto-parallel plane sweep, geometric consistency filtering
+// across photos, fusion.
 #pragma once
 
 #include <Eigen/Core>
@@ -14,15 +15,38 @@
 
 namespace hdribr {
 
+// Depth map algorithm of the CPU densifier.
+enum class DenseMethod { kPatchMatch, kSweep };
+
+// PatchMatch stereo parameters (frontend/patch_match.h).
+struct PatchMatchOptions {
+  int window_radius = 5;        // NCC window (2r+1)^2 ...
+  int window_step = 2;          // ... sampled every step-th pixel
+  float sigma_color = 0.2f;     // bilateral weight: intensity scale ([0, 1] intensities)
+  int num_levels = 3;           // pyramid levels (coarse to fine, halving the size)
+  int coarse_iterations = 4;    // iterations at the coarsest level
+  int iterations = 2;           // iterations at each finer level
+  int geom_iterations = 1;      // iterations of the geometric-consistency pass (0: none)
+  float geom_weight = 0.2f;     // cost per pixel of forward-backward reprojection error
+  float geom_max_error = 3.0f;  // reprojection error clamp (pixels at the finest level)
+  int best_views = 0;           // source costs averaged per pixel (0: half the sources)
+  float min_ncc = 0.3f;         // NCC of the best views needed to keep a depth
+  float min_texture = 2e-5f;    // intensity variance of the window needed to keep a depth
+  int seed_radius = 1;          // sparse-point depth seeds cover this radius at the coarsest
+};
+
 struct DenseOptions {
-  int max_size = 400;         // depth maps are computed at this largest side (pixels)
-  int num_neighbors = 4;      // source photos per reference photo
-  int num_depths = 96;        // planes swept, uniform in inverse depth
-  int window_radius = 3;      // NCC window (2r+1)^2
-  float min_ncc = 0.55f;      // aggregated NCC needed to keep a depth
-  float consistency = 0.01f;  // relative depth agreement for geometric consistency
-  int min_consistent = 2;     // other depth maps that must agree with a depth
-  int threads = 0;            // 0: hardware concurrency
+  DenseMethod method = DenseMethod::kPatchMatch;  // reconstruct sets it from --dense
+  int max_size = 400;             // depth maps are computed at this largest side (pixels)
+  int num_neighbors = 4;          // source photos per reference photo
+  int num_depths = 96;            // sweep: planes, uniform in inverse depth
+  int window_radius = 3;          // sweep: NCC window (2r+1)^2
+  float min_ncc = 0.55f;          // sweep: aggregated NCC needed to keep a depth
+  float consistency = 0.01f;      // relative depth agreement for geometric consistency
+  int min_consistent = 2;         // other depth maps that must agree with a depth
+  float max_normal_error = 30.f;  // degrees between agreeing plane normals (PatchMatch)
+  int threads = 0;                // 0: hardware concurrency
+  PatchMatchOptions patch_match;
 };
 
 // A depth map of one photo (camera-space z, 0 where invalid) at reduced resolution.
@@ -32,13 +56,14 @@ struct DepthMap {
   Rigid3d cam_from_world;
   cv::Mat depth;               // CV_32F
   cv::Mat score;               // CV_32F, aggregated NCC
+  cv::Mat normal;              // CV_32FC3 unit plane normals in camera space (PatchMatch only)
   cv::Mat color;               // CV_8UC3 BGR at the same size
   cv::Mat gray;                // CV_32F in [0, 1] at the same size
   std::vector<int> neighbors;  // image ids of its source photos
 };
 
 struct DenseResult {
-  PointCloud cloud;                        // positions and colours
+  PointCloud cloud;                        // positions, colours, normals (PatchMatch)
   std::vector<Eigen::Vector3f> view_dirs;  // per point: unit sum of directions to its cameras
   int num_depth_maps = 0;
 };

@@ -39,6 +39,15 @@ void KeepIndices(std::vector<T>& v, const pcl::Indices& keep) {
   v.swap(out);
 }
 
+// Unit `nrm` flipped to face `view`; `view` (or +z) where nrm is not a usable direction.
+Eigen::Vector3f OrientedNormal(Eigen::Vector3f nrm, const Eigen::Vector3f& view) {
+  if (!nrm.allFinite() || nrm.norm() < 0.5f) {
+    return view.norm() > 0 ? view.normalized() : Eigen::Vector3f::UnitZ();
+  }
+  nrm.normalize();
+  return nrm.dot(view) < 0 ? -nrm : nrm;
+}
+
 }  // namespace
 
 size_t RemoveOutliers(PointCloud& cloud, std::vector<Eigen::Vector3f>& view_dirs,
@@ -61,6 +70,14 @@ size_t RemoveOutliers(PointCloud& cloud, std::vector<Eigen::Vector3f>& view_dirs
 
 void EstimateNormals(PointCloud& cloud, const std::vector<Eigen::Vector3f>& view_dirs,
                      const AttributeOptions& options) {
+  if (cloud.normals.size() == cloud.size()) {
+    for (size_t i = 0; i < cloud.size(); ++i) {
+      const Eigen::Vector3f view =
+          i < view_dirs.size() ? view_dirs[i] : Eigen::Vector3f(0.f, 0.f, 0.f);
+      cloud.normals[i] = OrientedNormal(cloud.normals[i], view);
+    }
+    return;
+  }
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(Threads(options.threads));
   ne.setInputCloud(ToPcl(cloud));
   pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
@@ -70,16 +87,10 @@ void EstimateNormals(PointCloud& cloud, const std::vector<Eigen::Vector3f>& view
   ne.compute(normals);
   cloud.normals.resize(cloud.size());
   for (size_t i = 0; i < cloud.size(); ++i) {
-    Eigen::Vector3f nrm(normals[i].normal_x, normals[i].normal_y, normals[i].normal_z);
+    const Eigen::Vector3f nrm(normals[i].normal_x, normals[i].normal_y, normals[i].normal_z);
     const Eigen::Vector3f view =
         i < view_dirs.size() ? view_dirs[i] : Eigen::Vector3f(0.f, 0.f, 0.f);
-    if (!nrm.allFinite() || nrm.norm() < 0.5f) {
-      nrm = view.norm() > 0 ? view.normalized() : Eigen::Vector3f::UnitZ();
-    } else {
-      nrm.normalize();
-      if (nrm.dot(view) < 0) nrm = -nrm;
-    }
-    cloud.normals[i] = nrm;
+    cloud.normals[i] = OrientedNormal(nrm, view);
   }
 }
 

@@ -23,6 +23,8 @@ size_t RemoveOutliers(PointCloud& cloud, std::vector<Eigen::Vector3f>& view_dirs
 
 // PCA normals (pcl::NormalEstimationOMP), flipped to face `view_dirs[i]` (the direction from the
 // point toward the cameras that see it). Points whose normal cannot be estimated get view_dirs[i].
+// A cloud that already has a normal per point (e.g. PatchMatch planes) keeps them, oriented the
+// same way.
 void EstimateNormals(PointCloud& cloud, const std::vector<Eigen::Vector3f>& view_dirs,
                      const AttributeOptions& options);
 

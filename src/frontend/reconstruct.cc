@@ -287,12 +287,14 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
   if (mode == "auto") mode = ctx.caps.has_cuda ? "colmap" : "cpu";
   DenseResult dense;
   auto t0 = Clock::now();
-  if (mode == "cpu") {
+  if (mode == "cpu" || mode == "sweep") {
     DenseOptions o = ctx.opt.dense_options;
     o.threads = ctx.threads;
+    o.method = mode == "cpu" ? DenseMethod::kPatchMatch : DenseMethod::kSweep;
     dense = DensifyCpu(model, ctx.opt.workspace / "images", o,
                        [&](int done, int total) { progress.Update(done, total, "depth maps"); });
-    spdlog::info("CPU multi-view stereo: {} depth maps, {} fused points", dense.num_depth_maps,
+    spdlog::info("CPU multi-view stereo ({}): {} depth maps, {} fused points",
+                 mode == "cpu" ? "PatchMatch" : "plane sweep", dense.num_depth_maps,
                  dense.cloud.size());
   } else if (mode == "colmap") {
     if (!ctx.caps.has_cuda) throw OptionError("dense", "colmap needs a COLMAP built with CUDA");
@@ -329,7 +331,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
                                                : Eigen::Vector3f::Zero());
     }
   } else {
-    throw OptionError("dense", "must be auto, cpu, colmap or none, got '" + mode + "'");
+    throw OptionError("dense", "must be auto, cpu, sweep, colmap or none, got '" + mode + "'");
   }
   report.times.push_back({"dense." + mode, Seconds(t0)});
   if (dense.cloud.size() < 16) {
@@ -376,6 +378,41 @@ std::string ChooseMatching(int num_photos, int num_series, bool have_vocab_tree)
 
 namespace {
 
+// Refuses PatchMatch parameters the depth maps cannot be computed with.
+void CheckPatchMatchOptions(const PatchMatchOptions& p) {
+  if (p.window_radius < 1 || p.window_radius > 10) {
+    throw OptionError("dense_options.patch_match.window_radius", "must be in [1, 10]");
+  }
+  if (p.window_step < 1 || p.window_step > p.window_radius) {
+    throw OptionError("dense_options.patch_match.window_step", "must be in [1, window_radius]");
+  }
+  if (!(p.sigma_color > 0)) {
+    throw OptionError("dense_options.patch_match.sigma_color", "must be > 0");
+  }
+  if (p.num_levels < 1 || p.num_levels > 6) {
+    throw OptionError("dense_options.patch_match.num_levels", "must be in [1, 6]");
+  }
+  if (p.coarse_iterations < 1) {
+    throw OptionError("dense_options.patch_match.coarse_iterations", "must be >= 1");
+  }
+  if (p.iterations < 0) throw OptionError("dense_options.patch_match.iterations", "must be >= 0");
+  if (p.geom_iterations < 0) {
+    throw OptionError("dense_options.patch_match.geom_iterations", "must be >= 0");
+  }
+  if (!(p.geom_weight >= 0) || !(p.geom_max_error > 0)) {
+    throw OptionError("dense_options.patch_match.geom_weight",
+                      "and geom_max_error must be >= 0 and > 0");
+  }
+  if (p.best_views < 0) throw OptionError("dense_options.patch_match.best_views", "must be >= 0");
+  if (!(p.min_ncc >= -1 && p.min_ncc <= 1)) {
+    throw OptionError("dense_options.patch_match.min_ncc", "must be in [-1, 1]");
+  }
+  if (!(p.min_texture >= 0)) {
+    throw OptionError("dense_options.patch_match.min_texture", "must be >= 0");
+  }
+  if (p.seed_radius < 0) throw OptionError("dense_options.patch_match.seed_radius", "must be >= 0");
+}
+
 // Refuses option values that COLMAP or the dense stage would fail on only minutes later.
 void CheckOptions(const ReconstructOptions& opt) {
   if (opt.max_features < 1) throw OptionError("max_features", "must be >= 1");
@@ -387,12 +424,16 @@ void CheckOptions(const ReconstructOptions& opt) {
   if (d.max_size < 16) throw OptionError("dense_options.max_size", "must be >= 16");
   if (d.num_depths < 2) throw OptionError("dense_options.num_depths", "must be >= 2");
   if (d.num_neighbors < 1) throw OptionError("dense_options.num_neighbors", "must be >= 1");
+  if (!(d.max_normal_error > 0 && d.max_normal_error <= 180)) {
+    throw OptionError("dense_options.max_normal_error", "must be in (0, 180]");
+  }
+  CheckPatchMatchOptions(d.patch_match);
   if (opt.threads < 0) throw OptionError("threads", "must be >= 0 (0 = all cores)");
   const auto one_of = [](const std::string& value, std::initializer_list<const char*> names) {
     return std::any_of(names.begin(), names.end(), [&](const char* n) { return value == n; });
   };
-  if (!one_of(opt.dense, {"auto", "cpu", "colmap", "none"})) {
-    throw OptionError("dense", "must be auto, cpu, colmap or none, got '" + opt.dense + "'");
+  if (!one_of(opt.dense, {"auto", "cpu", "sweep", "colmap", "none"})) {
+    throw OptionError("dense", "must be auto, cpu, sweep, colmap or none, got '" + opt.dense + "'");
   }
   if (!one_of(opt.matching, {"auto", "exhaustive", "sequential", "pairs", "vocab_tree"})) {
     throw OptionError(

@@ -21,8 +21,9 @@ struct ReconstructOptions {
   int sift_max_size = 1600;          // photos are downscaled to this for SIFT only
   std::string camera_model = "SIMPLE_RADIAL";
   int undistort_max_size = -1;  // largest side of the workspace images (-1: as shot)
-  std::string dense = "auto";   // auto (COLMAP if it has CUDA, else cpu), cpu, colmap, none
-  DenseOptions dense_options;
+  // auto (COLMAP if it has CUDA, else cpu), cpu (PatchMatch), sweep (plane sweep), colmap, none
+  std::string dense = "auto";
+  DenseOptions dense_options;  // its method follows `dense`
   AttributeOptions attribute_options;
   int threads = 0;  // 0: hardware concurrency
 };

@@ -85,27 +85,40 @@ TEST(DenseMvs, NeighboursShareSparsePoints) {
   }
 }
 
+// Both CPU methods; PatchMatch also fuses its plane normals, facing the cameras.
 TEST(DenseMvs, RecoversASlantedPlaneAcrossExposures) {
   const Fixture f = MakeScene();
-  DenseOptions o;
-  o.max_size = 160;
-  o.num_neighbors = 3;
-  o.num_depths = 64;
-  o.min_consistent = 2;
-  o.threads = 2;
-  const DenseResult r = DensifyCpu(f.model, f.images, o);
-  EXPECT_EQ(r.num_depth_maps, 4);
-  ASSERT_EQ(r.view_dirs.size(), r.cloud.size());
-  ASSERT_EQ(r.cloud.colors.size(), r.cloud.size());
-  // Most of the 4 x 160 x 120 pixels see the plane.
-  EXPECT_GT(r.cloud.size(), 4u * 160u * 120u / 3u);
-  size_t accurate = 0;
-  for (size_t i = 0; i < r.cloud.size(); ++i) {
-    const Eigen::Vector3f& p = r.cloud.positions[i];
-    if (std::abs(p.z() - PlaneZ(p.x())) < 0.01 * 4.0) ++accurate;  // 1% of the distance
-    EXPECT_LT(r.view_dirs[i].z(), -0.8f);  // toward the cameras (FOV 56 deg)
+  for (const DenseMethod method : {DenseMethod::kSweep, DenseMethod::kPatchMatch}) {
+    SCOPED_TRACE(method == DenseMethod::kSweep ? "sweep" : "patch match");
+    DenseOptions o;
+    o.method = method;
+    o.max_size = 160;
+    o.num_neighbors = 3;
+    o.num_depths = 64;
+    o.min_consistent = 2;
+    o.threads = 2;
+    const DenseResult r = DensifyCpu(f.model, f.images, o);
+    EXPECT_EQ(r.num_depth_maps, 4);
+    ASSERT_EQ(r.view_dirs.size(), r.cloud.size());
+    ASSERT_EQ(r.cloud.colors.size(), r.cloud.size());
+    ASSERT_EQ(r.cloud.normals.size(), method == DenseMethod::kSweep ? 0u : r.cloud.size());
+    // Most of the 4 x 160 x 120 pixels see the plane.
+    EXPECT_GT(r.cloud.size(), 4u * 160u * 120u / 3u);
+    size_t accurate = 0, normal_ok = 0;
+    const Eigen::Vector3f truth = Eigen::Vector3f(0.3f, 0.f, -1.f).normalized();
+    for (size_t i = 0; i < r.cloud.size(); ++i) {
+      const Eigen::Vector3f& p = r.cloud.positions[i];
+      if (std::abs(p.z() - PlaneZ(p.x())) < 0.01 * 4.0) ++accurate;  // 1% of the distance
+      EXPECT_LT(r.view_dirs[i].z(), -0.8f);  // toward the cameras (FOV 56 deg)
+      if (r.cloud.HasNormals() && r.cloud.normals[i].dot(truth) > std::cos(10 * M_PI / 180)) {
+        ++normal_ok;
+      }
+    }
+    EXPECT_GT(double(accurate) / r.cloud.size(), 0.95) << accurate << " of " << r.cloud.size();
+    if (r.cloud.HasNormals()) {
+      EXPECT_GT(double(normal_ok) / r.cloud.size(), 0.95);
+    }
   }
-  EXPECT_GT(double(accurate) / r.cloud.size(), 0.95) << accurate << " of " << r.cloud.size();
 }
 
 }  // namespace

@@ -27,6 +27,16 @@ TEST(PointAttributes, NormalsFaceTheCameras) {
   for (const auto& n : c.normals) EXPECT_LT(n.z(), -0.999f);
 }
 
+TEST(PointAttributes, NormalsAlreadyPresentAreKeptAndOriented) {
+  PointCloud c = Grid(0.01f);
+  const Eigen::Vector3f slanted = Eigen::Vector3f(0.f, 0.6f, -0.8f);
+  c.normals.assign(c.size(), slanted);
+  std::vector<Eigen::Vector3f> view(c.size(), Eigen::Vector3f(0.f, 0.f, 1.f));
+  EstimateNormals(c, view, {});
+  ASSERT_EQ(c.normals.size(), c.size());
+  for (const auto& n : c.normals) EXPECT_TRUE(n.isApprox(-slanted, 1e-5f)) << n.transpose();
+}
+
 TEST(PointAttributes, ViewDirsFromCameraCentres) {
   PointCloud c = Grid(0.01f);
   const auto dirs = ViewDirsFromCameras(c, {Eigen::Vector3d(0.2, 0.2, 5.0)});

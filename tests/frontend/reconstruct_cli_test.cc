@@ -61,7 +61,7 @@ TEST(ReconstructCli, BadOptionsAreRefusedBeforeAnyWork) {
   fs::create_directories(dir / "photos");
   for (const std::string bad :
        {"--max-features 0", "--dense-size -1", "--image-size 0", "--threads -1", "--dense-depths 1",
-        "--dense foo", "--matching foo"}) {
+        "--dense foo", "--matching foo", "--dense-levels 0"}) {
     const auto r = test::RunCommand(Exe() + " -q reconstruct " + (dir / "photos").string() + " " +
                                     (dir / "ws").string() + " " + bad);
     EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
