@@ -101,6 +101,25 @@ class PhotoDepthCacheTest : public test::GlSuite {
     }
   }
 
+  // Renderer options with random pixels for every photo of `s`.
+  static RendererOptions RandomPhotos(const Scene& s, int seed) {
+    RendererOptions options;
+    cv::RNG rng(static_cast<std::uint64_t>(seed));
+    for (const Photo& p : s.photos) {
+      const Camera& cam = s.CameraOf(p);
+      cv::Mat img(cam.height, cam.width, CV_8UC3);
+      rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+      options.photo_images.push_back(img);
+    }
+    return options;
+  }
+
+  // A view between the photos, looking at the scene.
+  static Rigid3d ViewPose() {
+    return LookAt(Eigen::Vector3d(0.3, 0.2, -0.1), Eigen::Vector3d(0, 0, 3.2),
+                  Eigen::Vector3d(0, -1, 0));
+  }
+
   static size_t FilesIn(const fs::path& dir) {
     return static_cast<size_t>(std::distance(fs::directory_iterator(dir), {}));
   }
@@ -319,17 +338,9 @@ TEST_F(PhotoDepthCacheTest, OnlyTheMostRecentKeysAreKept) {
 
 TEST_F(PhotoDepthCacheTest, RendererWithAWarmCacheRendersTheSameBytes) {
   const Scene s = MakeScene();
-  RendererOptions options;
-  cv::RNG rng(3);
-  for (const Photo& p : s.photos) {
-    const Camera& cam = s.CameraOf(p);
-    cv::Mat img(cam.height, cam.width, CV_8UC3);
-    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-    options.photo_images.push_back(img);
-  }
+  const RendererOptions options = RandomPhotos(s, 3);
   const Camera view_cam = test::TestCamera(80);
-  const Rigid3d view = LookAt(Eigen::Vector3d(0.3, 0.2, -0.1), Eigen::Vector3d(0, 0, 3.2),
-                              Eigen::Vector3d(0, -1, 0));
+  const Rigid3d view = ViewPose();
   const auto render = [&](const fs::path& cache, bool expect_cached) {
     RendererOptions o = options;
     o.depth_cache_dir = cache;
@@ -354,14 +365,7 @@ TEST_F(PhotoDepthCacheTest, RendererWithAWarmCacheRendersTheSameBytes) {
 // maps given back, for the photos and the view, render the same bytes.
 TEST_F(PhotoDepthCacheTest, GivenDepthsRenderTheSameBytes) {
   const Scene s = MakeScene();
-  RendererOptions options;
-  cv::RNG rng(5);
-  for (const Photo& p : s.photos) {
-    const Camera& cam = s.CameraOf(p);
-    cv::Mat img(cam.height, cam.width, CV_8UC3);
-    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-    options.photo_images.push_back(img);
-  }
+  const RendererOptions options = RandomPhotos(s, 5);
   DepthPass pass(*shaders_);
   pass.SetPoints(s.points);
   const PhotoDepthMaps computed(s, pass);
@@ -371,8 +375,7 @@ TEST_F(PhotoDepthCacheTest, GivenDepthsRenderTheSameBytes) {
     given_maps.push_back(ReadTextureLayerR32F(computed.depth(), i)(cv::Rect({0, 0}, size)).clone());
   }
   const Camera view_cam = test::TestCamera(80);
-  const Rigid3d view = LookAt(Eigen::Vector3d(0.3, 0.2, -0.1), Eigen::Vector3d(0, 0, 3.2),
-                              Eigen::Vector3d(0, -1, 0));
+  const Rigid3d view = ViewPose();
   Renderer splat(*shaders_, s, options);
   const RenderImages reference = splat.RenderToImages(view_cam, view, 80, 80);
   EXPECT_GT(cv::countNonZero(reference.valid), 80 * 80 / 3);
