@@ -15,13 +15,10 @@
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "cli/render_options.h"
+#include "cli/workspace_setup.h"
 #include "core/error.h"
-#include "gl/context.h"
-#include "gl/shader_library.h"
 #include "hdr/response_curve.h"
 #include "io/atomic_file.h"
-#include "io/workspace.h"
-#include "render/cloud_calibration.h"
 
 namespace hdribr::cli {
 namespace {
@@ -46,7 +43,7 @@ std::pair<double, double> FactorFreeErrors(const std::vector<double>& log_ratio)
   return {100 * std::expm1(err[err.size() / 2]), 100 * std::expm1(err.back())};
 }
 
-void ReportTruth(const Scene& scene, const RadiometricCalibration& c, const ResponseCurve& got,
+void ReportTruth(const RadiometricCalibration& c, const ResponseCurve& got,
                  const fs::path& capture) {
   const ResponseCurve truth = ReadResponseCurve(capture / "calib" / "response.json");
   std::printf("response vs truth, RMS linear error over 10-245 DN: B %.4f  G %.4f  R %.4f\n",
@@ -80,24 +77,17 @@ void ReportTruth(const Scene& scene, const RadiometricCalibration& c, const Resp
       "exposures vs truth (%zu photos, up to one factor): calibrated median %.2f %%, max %.2f "
       "%%; EXIF median %.2f %%, max %.2f %%\n",
       calibrated.size(), cal_med, cal_max, exif_med, exif_max);
-  (void)scene;
 }
 
 int Run(const CalibrateOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
-  const Scene scene = LoadWorkspace(opt.workspace);
   render::CloudCalibrationOptions options;
   options.gather.samples = opt.samples;
   options.solve.lambda = opt.lambda;
   options.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
-  gl::HeadlessContext context;
-  const gl::ShaderLibrary shaders;
-  const render::CloudCalibrationResult result = render::CalibrateFromCloud(shaders, scene, options);
-  const RadiometricCalibration calibration = render::ToWorkspaceCalibration(scene, result);
-  const fs::path dir = fs::path(opt.workspace) / kCalibFolder;
-  fs::create_directories(dir);
-  WriteResponseCurve(dir / calibration.response_file, result.calibration.response);
-  WriteRadiometricCalibration(dir / kCalibExposures, calibration);
+  const WorkspaceCalibration c = CalibrateWorkspace(opt.workspace, options);
+  const render::CloudCalibrationResult& result = c.result;
+  const RadiometricCalibration& calibration = c.calibration;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -112,19 +102,17 @@ int Run(const CalibrateOptions& opt) {
   std::printf(
       "calibrated %d of %zu photos from %d points (%d observations, %d rejected), residual "
       "%.4f; exposures span %.2f stops; %s\n",
-      solved, scene.photos.size(), st.samples_used, st.observations_used, st.observations_rejected,
-      st.residual_rms, std::log2(hi / lo),
+      solved, calibration.photos.size(), st.samples_used, st.observations_used,
+      st.observations_rejected, st.residual_rms, std::log2(hi / lo),
       st.exponent_from_prior ? "scale from EXIF"
                              : "no EXIF ratios: exposures up to a factor and an exponent");
   for (const auto& [name, e] : calibration.photos) {
     if (!e.calibrated)
       std::printf("  %s: not calibrated (no usable overlap), EXIF kept\n", name.c_str());
   }
-  std::printf("wrote %s and %s in %.1f s (%s)\n", (dir / calibration.response_file).c_str(),
-              (dir / kCalibExposures).c_str(), seconds, context.Renderer().c_str());
-  if (!opt.truth.empty()) {
-    ReportTruth(scene, calibration, result.calibration.response, opt.truth);
-  }
+  std::printf("wrote %s and %s in %.1f s\n", c.response_file.c_str(), c.exposures_file.c_str(),
+              seconds);
+  if (!opt.truth.empty()) ReportTruth(calibration, result.calibration.response, opt.truth);
   return 0;
 }
 

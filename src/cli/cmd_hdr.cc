@@ -15,6 +15,7 @@
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "cli/render_options.h"
+#include "cli/workspace_setup.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -169,7 +170,9 @@ HDRIBR_COMMAND(hdr, "HDR photo set: aligned per-series renders, calibration, mer
 
 CommandRunner SetupHdr(CLI::App& sub) {
   auto opt = std::make_shared<HdrOptions>();
-  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  sub.add_option("workspace", opt->workspace,
+                 "Workspace folder, or a folder of photos (made into a workspace beside it once)")
+      ->required();
   sub.add_option("--reference-series", opt->reference_series,
                  "Series (name or index) whose photos are the reference views "
                  "(default: middle)");
@@ -199,7 +202,10 @@ CommandRunner SetupHdr(CLI::App& sub) {
   sub.add_option("--truth", opt->truth,
                  "Synthetic capture folder (hdribr synth): report errors vs "
                  "its ground truth");
-  return [opt] { return Run(*opt); };
+  return [opt] {
+    opt->workspace = WorkspaceOrPhotos(opt->workspace).string();
+    return Run(*opt);
+  };
 }
 
 }  // namespace hdribr::cli

@@ -49,6 +49,7 @@ struct RenderCliOptions {
   bool no_depth_cache = false;
   // HDR: render mode and Reinhard tone mapping of the PNG output.
   std::optional<render::HdrMode> hdr_mode;  // unset = LDR rendering
+  std::string hdr_mode_name = "auto";       // --hdr-mode: auto, ldr or an HdrMode name
   std::string hdr_set;                      // default WORKSPACE/hdr
   std::string response;                     // default: the HDR set's response.json
   double exposure_ev = 0;
@@ -59,7 +60,23 @@ struct RenderCliOptions {
   // exposure time (with the photos' median ISO and aperture).
   std::string as_photo;
   double exposure_time = 0;
+  bool camera_curve = false;  // PNG through the response at the photos' median exposure
 };
+
+// --hdr-mode auto: radiance of every photo (direct) when the workspace has a radiometric
+// calibration (hdribr calibrate) and its photos more than one exposure, else display blending.
+std::optional<render::HdrMode> AutoHdrMode(const std::filesystem::path& workspace) {
+  const std::filesystem::path file = workspace / kCalibFolder / kCalibExposures;
+  if (!std::filesystem::exists(file)) return std::nullopt;
+  double lo = HUGE_VAL, hi = 0;
+  for (const auto& [name, e] : ReadRadiometricCalibration(file).photos) {
+    lo = std::min(lo, e.exif_relative);
+    hi = std::max(hi, e.exif_relative);
+  }
+  // Exposures differ when they are more than the series grouping's 1/6 EV apart.
+  if (!(hi > 0) || std::log2(hi / lo) <= 1.0 / 6.0) return std::nullopt;
+  return render::HdrMode::kDirect;
+}
 
 // Relative exposure (Exposure::Relative() units) of the camera-curve output: --as-photo's
 // photo, or --exposure-time with the median ISO / 100 / N^2 of the photos that have EXIF.
@@ -69,7 +86,13 @@ double ReExposure(const RenderCliOptions& opt, const Scene& scene) {
     if (i < 0) throw UsageError("--as-photo: no photo named '" + opt.as_photo + "'");
     return scene.RelativeExposureOf(scene.photos[static_cast<size_t>(i)]);
   }
-  return opt.exposure_time * scene.ExposureGain();
+  if (opt.exposure_time > 0) return opt.exposure_time * scene.ExposureGain();
+  std::vector<double> exposures;
+  for (const Photo& p : scene.photos) exposures.push_back(scene.RelativeExposureOf(p));
+  std::nth_element(exposures.begin(),
+                   exposures.begin() + static_cast<std::ptrdiff_t>(exposures.size() / 2),
+                   exposures.end());
+  return exposures[exposures.size() / 2];
 }
 
 // The blended colour as an 8-bit BGRA PNG image: value x 255 rounded (clamped), alpha 255 where
@@ -215,7 +238,7 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   render::HdrRenderer renderer(shaders, scene, mode, response, opt.renderer, set ? &*set : nullptr);
-  const bool camera_curve = !opt.as_photo.empty() || opt.exposure_time > 0;
+  const bool camera_curve = opt.camera_curve || !opt.as_photo.empty() || opt.exposure_time > 0;
   const double re_exposure = camera_curve ? ReExposure(opt, scene) : 0.0;
   const ResponseCurve& curve = set && response_file.empty() ? set->response : response;
   render::TonemapPass tonemap(shaders);
@@ -369,9 +392,12 @@ CommandRunner SetupRender(CLI::App& sub) {
       ->transform(NamesTo(std::map<std::string, render::BlendMode>{
           {"blend", render::BlendMode::kBlend}, {"nearest", render::BlendMode::kNearestPhoto}}))
       ->default_str("blend");
-  sub.add_option("--hdr-mode", opt->hdr_mode,
-                 "HDR rendering: precomputed (HDR photo set), onthefly or direct")
-      ->transform(NamesTo(NameMap<render::HdrMode>(render::AllHdrModes(), render::HdrModeName)));
+  sub.add_option("--hdr-mode", opt->hdr_mode_name,
+                 "auto (direct, through the camera's response, when the workspace is calibrated "
+                 "and its photos have several exposures; else ldr), ldr (display values), "
+                 "precomputed (HDR photo set), onthefly or direct")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "ldr", "precomputed", "onthefly", "direct"}));
   // Options of HDR renders only: an LDR render refuses them rather than ignore them.
   const std::vector<const CLI::Option*> hdr_only = {
       sub.add_option("--hdr-set", opt->hdr_set, "HDR photo set folder (default WORKSPACE/hdr)"),
@@ -389,6 +415,27 @@ CommandRunner SetupRender(CLI::App& sub) {
       sub.add_option("--exposure-time", opt->exposure_time,
                      "PNG through the camera's response at this exposure time in seconds")};
   return [opt, hdr_only] {
+    const bool want_ldr = !opt->debug.empty() || !opt->exclude.empty() ||
+                          opt->renderer.blend.mode != render::BlendMode::kBlend;
+    if (opt->hdr_mode_name == "auto") {
+      if (!want_ldr) opt->hdr_mode = AutoHdrMode(opt->workspace);
+      bool reinhard = false;
+      for (const CLI::Option* o : hdr_only) {
+        const std::string n = o->get_name();
+        reinhard |= o->count() > 0 && n != "--as-photo" && n != "--exposure-time" &&
+                    n != "--response" && n != "--hdr-set";
+      }
+      if (opt->hdr_mode) {
+        opt->camera_curve = !reinhard;
+        spdlog::info(
+            "calibrated workspace with several exposures: rendering the radiance of every photo "
+            "(--hdr-mode direct){} (--hdr-mode ldr blends display values)",
+            opt->camera_curve ? ", through the camera's response at the median photo's exposure"
+                              : "");
+      }
+    } else if (opt->hdr_mode_name != "ldr") {
+      opt->hdr_mode = render::ParseHdrMode(opt->hdr_mode_name);
+    }
     if (!opt->as_photo.empty() && opt->exposure_time != 0) {
       throw UsageError("give --as-photo or --exposure-time, not both");
     }
@@ -397,7 +444,7 @@ CommandRunner SetupRender(CLI::App& sub) {
     }
     for (const CLI::Option* o : hdr_only) {
       if (o->count() > 0 && !opt->hdr_mode) {
-        throw UsageError(o->get_name() + " applies to HDR renders: add --hdr-mode");
+        throw UsageError(o->get_name() + " applies to HDR renders: add --hdr-mode MODE");
       }
     }
     opt->renderer.depth_cache_dir = WorkspaceDepthCache(opt->workspace, opt->no_depth_cache);

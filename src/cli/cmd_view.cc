@@ -6,6 +6,7 @@
 #include "cli/cli_util.h"
 #include "cli/command.h"
 #include "cli/render_options.h"
+#include "cli/workspace_setup.h"
 #include "core/error.h"
 #include "io/workspace.h"
 #include "render/renderer.h"
@@ -22,7 +23,9 @@ CommandRunner SetupView(CLI::App& sub) {
   auto tonemap = std::make_shared<std::string>("auto");
   auto gamma = std::make_shared<float>(0.0f);
   auto no_depth_cache = std::make_shared<bool>(false);
-  sub.add_option("workspace", opt->workspace, "Workspace folder")->required();
+  sub.add_option("workspace", opt->workspace,
+                 "Workspace folder, or a folder of photos (made into a workspace beside it once)")
+      ->required();
   sub.add_option("--camera", opt->camera,
                  "Initial view: photo name, \"QW QX QY QZ TX TY TZ [CAMERA_ID]\" or camera file");
   sub.add_option("--width", opt->width, "Window width (default: the camera's, <= 1280)");
@@ -64,6 +67,7 @@ CommandRunner SetupView(CLI::App& sub) {
       ->check(kAtLeastZero)
       ->group("");
   return [opt, tonemap, gamma, no_depth_cache] {
+    opt->workspace = WorkspaceOrPhotos(opt->workspace);
     if (*tonemap == "camera") {
       opt->camera_curve = true;
     } else if (*tonemap != "auto") {

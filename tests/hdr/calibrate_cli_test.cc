@@ -94,6 +94,17 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
                         (out / "bright.png").string() + " 2>&1");
   ASSERT_EQ(rr.exit_code, 0) << rr.output;
   EXPECT_GT(cv::mean(ReadImage(out / "bright.png"))[1], cv::mean(as_photo)[1] + 20);
+  // Without --hdr-mode, a calibrated workspace with several exposures renders its radiance
+  // through the response (auto); --hdr-mode ldr blends display values.
+  const std::string plain = std::string(HDRIBR_EXE) + " render " + ws.string() + " --camera " +
+                            photo + " --out " + (out / "plain.png").string();
+  rr = test::RunCommand(plain + " 2>&1");
+  ASSERT_EQ(rr.exit_code, 0) << rr.output;
+  EXPECT_NE(rr.output.find("HDR mode direct"), std::string::npos) << rr.output;
+  EXPECT_GT(cv::PSNR(ReadImage(out / "plain.png"), original), 20.0);
+  rr = test::RunCommand(plain + " --hdr-mode ldr 2>&1");
+  ASSERT_EQ(rr.exit_code, 0) << rr.output;
+  EXPECT_EQ(rr.output.find("HDR mode"), std::string::npos) << rr.output;
   rr = test::RunCommand(render + "--as-photo nope.jpg --out " + (out / "x.png").string() + " 2>&1");
   EXPECT_NE(rr.exit_code, 0);
   EXPECT_NE(rr.output.find("no photo named 'nope.jpg'"), std::string::npos) << rr.output;
@@ -144,6 +155,38 @@ TEST(CalibrateCli, OnePhotoIsOneClearErrorAndWritesNothing) {
   r = test::RunCommand(exe + " hdr " + ws.string() + " --calibration cloud 2>&1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("hdribr calibrate"), std::string::npos) << r.output;
+}
+
+// `hdribr hdr PHOTOS/`: a folder of photos becomes a workspace beside it (reconstructed and
+// calibrated from its cloud), reused by the next command.
+TEST(CalibrateCli, PhotoFolderToHdrInOneCommand) {
+  const fs::path cap = test::TempDir("calibrate_cli_photos") / "capture";
+  synth::CaptureOptions o;
+  o.series = 2;
+  o.views = 6;
+  o.width = 320;
+  o.height = 240;
+  o.novel_views = 0;
+  synth::WriteCapture(o, cap);
+  const fs::path photos = cap / "photos";
+  const std::string exe = HDRIBR_EXE;
+  auto r = test::RunCommand(exe + " hdr " + photos.string() + " --no-aligned 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path ws = cap / "photos-hdribr";
+  EXPECT_NE(r.output.find("is a folder of photos: its workspace is " + ws.string()),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(ws / kCalibFolder / kCalibExposures));
+  EXPECT_NE(r.output.find("response from the point cloud"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(ws / "hdr" / "hdr_set.json"));
+  // The photo folder holds only its photos still.
+  for (const auto& e : fs::directory_iterator(photos)) {
+    EXPECT_EQ(e.path().extension(), ".jpg") << e.path();
+  }
+  // Second time: the workspace is reused, nothing is reconstructed again.
+  r = test::RunCommand(exe + " hdr " + photos.string() + " --no-aligned 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("dense: done before, skipped"), std::string::npos) << r.output;
 }
 
 }  // namespace
