@@ -47,6 +47,9 @@ layout(location = 11) uniform int u_weights;  // 0 paper eq. 5, 1 Unstructured L
 // (render::Background).
 layout(location = 12) uniform int u_background;
 layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (world), radius
+// 1: a point's visibility in a photo is the share of the 2x2 depth texels about its projection
+// that agree with it (soft at the photo's depth discontinuities); 0: visible when one agrees.
+layout(location = 14) uniform int u_soft_visibility;
 
 #ifndef MAX_K
 #define MAX_K 32
@@ -95,27 +98,29 @@ bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
 // projection (a single texel rejects half the pixels along the photo's silhouettes): a point
 // passes when it agrees with one of them, a background sample (which lies beyond every point)
 // when one of them holds no point.
-bool VisibleIn(int i, Sample s, vec2 px, float z_k) {
+float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   vec4 dmap = photos[i].dmap;
   ivec2 d0 = ivec2(floor(px * dmap.xy - 0.5));
   ivec2 dmax = ivec2(dmap.zw) - 1;
-  bool any_agrees = false;
+  int agree = 0;
   bool any_empty = false;
   for (int dy = 0; dy <= 1; ++dy) {
     for (int dx = 0; dx <= 1; ++dx) {
       ivec2 t = clamp(d0 + ivec2(dx, dy), ivec2(0), dmax);
       float dk = texelFetch(u_photo_depth, ivec3(t, i), 0).r;
       if (dk <= 0.0) any_empty = true;
-      if (dk > 0.0 && abs(z_k - dk) <= u_tolerance * dk) any_agrees = true;
+      if (dk > 0.0 && abs(z_k - dk) <= u_tolerance * dk) ++agree;
     }
   }
-  return s.background ? any_empty : any_agrees;
+  if (s.background) return any_empty ? 1.0 : 0.0;
+  if (u_soft_visibility == 1) return float(agree) / 4.0;
+  return agree > 0 ? 1.0 : 0.0;
 }
 
 // Geometric weight of photo i for the sample (0 when photo i does not see it); uvl receives
 // the texture coordinate and the level of detail in the photo, feather a factor in (0, 1] of
 // the final weight (for the background: falling to 0 at the photo's frame, so that no seam
-// shows where a photo's frame crosses the sky; 1 for points), penalty the Unstructured
+// shows where a photo's frame crosses the sky; for points, the soft visibility or 1), penalty the Unstructured
 // Lumigraph penalty angle(V, V_k) (radians) + delta_k. At infinity V_k = V (angle 0, cos 1),
 // and delta_k is the distance |C_k - C| between the centres: what lies beyond the points is
 // far but not infinitely far, and its parallax grows with that distance (the limit of eq. 4,
@@ -126,7 +131,9 @@ float Weight(int i, Sample s, out vec3 uvl, out float feather, out float penalty
   penalty = 0.0;
   vec2 px;
   vec3 pk;
-  if (!ProjectInto(i, s, px, pk) || !VisibleIn(i, s, px, pk.z)) return 0.0;
+  if (!ProjectInto(i, s, px, pk)) return 0.0;
+  float visibility = VisibleIn(i, s, px, pk.z);
+  if (visibility <= 0.0) return 0.0;
   float cos_k = 1.0;
   float delta = 0.0;
   float footprint;  // photo texels per target pixel
@@ -153,6 +160,7 @@ float Weight(int i, Sample s, out vec3 uvl, out float feather, out float penalty
     feather = max(clamp(min(border.x, border.y) / (kFeather * max(size.x, size.y)), 0.0, 1.0),
                   1e-3);
   }
+  feather *= visibility;
   float w = feather;
   if (u_nearest == 0) {
     w = feather * cos_k / (delta + 1.0);  // eq. 5

@@ -41,6 +41,12 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
                  "Occlusion test: relative depth tolerance, in (0, 1)")
       ->capture_default_str();
   AddBackgroundOption(app, blend.background);
+  app.add_option("--visibility", blend.visibility,
+                 "Occlusion test: hard (visible when one of the 2x2 depth texels agrees) or soft "
+                 "(weighted by the share that agree)")
+      ->transform(NamesTo(std::map<std::string, render::Visibility>{
+          {"hard", render::Visibility::kHard}, {"soft", render::Visibility::kSoft}}))
+      ->default_str(blend.visibility == render::Visibility::kSoft ? "soft" : "hard");
 }
 
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background) {

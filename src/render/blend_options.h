@@ -57,6 +57,11 @@ enum class PhotoEncoding {
               // times Debevec's hat weight of Z; needs a response curve
 };
 
+// A point's visibility in a photo, from the 2x2 depth-map texels about its projection: kHard,
+// visible when one agrees; kSoft, weighted by the share that agree (soft at the photo's depth
+// discontinuities, where the test is a coin toss).
+enum class Visibility { kHard = 0, kSoft = 1 };
+
 struct BlendOptions {
   BlendMode mode = BlendMode::kBlend;
   PhotoEncoding encoding = PhotoEncoding::kDisplay;
@@ -68,6 +73,7 @@ struct BlendOptions {
   float occlusion_tolerance = 0.01f;  // |z_k(P) - depth_k| <= tolerance * depth_k passes
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
   Background background = Background::kSphere;
+  Visibility visibility = Visibility::kHard;
 };
 
 // One BlendOptions field that no blend can use.

@@ -136,6 +136,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1i(p, 11, ulr ? 1 : 0);
   glProgramUniform1i(p, 12, static_cast<int>(options.background));
   glProgramUniform4fv(p, 13, 1, sphere_);
+  glProgramUniform1i(p, 14, static_cast<int>(options.visibility));
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program_.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
