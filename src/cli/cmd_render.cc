@@ -87,12 +87,7 @@ double ReExposure(const RenderCliOptions& opt, const Scene& scene) {
     return scene.RelativeExposureOf(scene.photos[static_cast<size_t>(i)]);
   }
   if (opt.exposure_time > 0) return opt.exposure_time * scene.ExposureGain();
-  std::vector<double> exposures;
-  for (const Photo& p : scene.photos) exposures.push_back(scene.RelativeExposureOf(p));
-  std::nth_element(exposures.begin(),
-                   exposures.begin() + static_cast<std::ptrdiff_t>(exposures.size() / 2),
-                   exposures.end());
-  return exposures[exposures.size() / 2];
+  return scene.MedianRelativeExposure();
 }
 
 // The blended colour as an 8-bit BGRA PNG image: value x 255 rounded (clamped), alpha 255 where

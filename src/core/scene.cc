@@ -31,6 +31,16 @@ double Scene::ExposureGain() const {
   return gains[gains.size() / 2];
 }
 
+double Scene::MedianRelativeExposure() const {
+  std::vector<double> exposures;
+  for (const Photo& p : photos) exposures.push_back(RelativeExposureOf(p));
+  if (exposures.empty()) return 1.0;
+  std::nth_element(exposures.begin(),
+                   exposures.begin() + static_cast<std::ptrdiff_t>(exposures.size() / 2),
+                   exposures.end());
+  return exposures[exposures.size() / 2];
+}
+
 int Scene::NearestPhoto(const Rigid3d& cam_from_world) const {
   std::vector<int> all(photos.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);

@@ -37,6 +37,9 @@ struct Scene {
   // Relative exposure per second of exposure time: the median ISO / 100 / N^2 of the photos
   // with an exposure time (1 without any), to turn a time in seconds into a relative exposure.
   double ExposureGain() const;
+  // Median of RelativeExposureOf over the photos (1 without photos): the exposure of a typical
+  // photo, EV 0 of a re-exposure through the camera's response.
+  double MedianRelativeExposure() const;
   // Index of the photo whose viewpoint is nearest a view, among `candidates` (indices into
   // photos) or all photos: the smallest |C - C_k| / scene_scale + (1 - d . d_k), with C, d the
   // centres and viewing directions. -1 when there is no candidate.

@@ -29,6 +29,7 @@ std::vector<GtView> ReadGtNovelViews(const std::filesystem::path& capture_dir) {
     v.camera = cam->second;
     v.cam_from_world = image.cam_from_world;
     v.radiance_path = dir / "radiance" / (v.name + ".exr");
+    v.depth_path = dir / "depth" / (v.name + ".exr");
     if (!std::filesystem::exists(v.radiance_path)) {
       throw InputError(v.radiance_path, "ground-truth radiance missing");
     }

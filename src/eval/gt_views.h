@@ -21,6 +21,7 @@ struct GtView {
   Camera camera;
   Rigid3d cam_from_world;
   std::filesystem::path radiance_path;
+  std::filesystem::path depth_path;  // camera z (EXR `Z`, 0 = sky); may be absent
 };
 
 // The novel views of a capture folder (CAPTURE/gt/novel: COLMAP TEXT model, radiance/*.exr),

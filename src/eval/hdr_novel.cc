@@ -86,11 +86,9 @@ HdrNovelReport RunHdrNovelEvaluation(const Scene& scene, const gl::ShaderLibrary
     cv::Mat gt = ReadExr(v.radiance_path);
     if (gt.type() != CV_32FC3) throw InputError(v.radiance_path, "expected RGB radiance");
     cv::resize(gt, gt, size, 0, 0, cv::INTER_AREA);
-    const std::filesystem::path depth_path =
-        v.radiance_path.parent_path().parent_path() / "depth" / v.radiance_path.filename();
     cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
-    if (std::filesystem::exists(depth_path)) {
-      cv::resize(ReadExr(depth_path) > 0, mask, size, 0, 0, cv::INTER_NEAREST);
+    if (std::filesystem::exists(v.depth_path)) {
+      cv::resize(ReadExr(v.depth_path) > 0, mask, size, 0, 0, cv::INTER_NEAREST);
     }
     std::vector<cv::Mat> radiance;
     for (const std::string& name : names) {

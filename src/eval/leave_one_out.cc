@@ -29,6 +29,7 @@ struct EvalView {
   int series = -1;
   int held_out = -1;  // photo index, -1 for GT views
   std::filesystem::path gt_radiance;
+  std::filesystem::path gt_depth;
 };
 
 cv::Size ScaledSize(const Camera& camera, double scale) {
@@ -150,7 +151,8 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     if (!options.photos.empty())
       throw UsageError("held-out photos apply to leave-one-out evaluation only");
     for (const GtView& g : ReadGtNovelViews(options.gt_capture)) {
-      views.push_back({g.name, g.camera, g.cam_from_world, default_series, -1, g.radiance_path});
+      views.push_back(
+          {g.name, g.camera, g.cam_from_world, default_series, -1, g.radiance_path, g.depth_path});
     }
   } else {
     std::vector<int> chosen;
@@ -168,7 +170,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     for (int i : chosen) {
       const Photo& p = scene.photos[static_cast<size_t>(i)];
       if (p.series_id < 0) throw UsageError("photo '" + p.name + "' belongs to no series");
-      views.push_back({p.name, scene.CameraOf(p), p.cam_from_world, p.series_id, i, {}});
+      views.push_back({p.name, scene.CameraOf(p), p.cam_from_world, p.series_id, i, {}, {}});
     }
   }
   // The photos that render a view: every other photo in radiance, else the other photos of
@@ -276,10 +278,8 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       const double t = SeriesTime(scene, v.series);
       reference = ResizeTo(RadianceToLdr(radiance, *response, t), size);
       // Sky (no surface) has no points behind it: compared only where the GT depth is valid.
-      const std::filesystem::path depth_path =
-          v.gt_radiance.parent_path().parent_path() / "depth" / v.gt_radiance.filename();
-      if (std::filesystem::exists(depth_path)) {
-        view_gt_depth = ReadExr(depth_path);
+      if (std::filesystem::exists(v.gt_depth)) {
+        view_gt_depth = ReadExr(v.gt_depth);
         cv::Mat surface = view_gt_depth > 0;
         cv::resize(surface, reference_mask, size, 0, 0, cv::INTER_NEAREST);
       }

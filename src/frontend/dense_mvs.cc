@@ -6,10 +6,10 @@
 #include <cmath>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
-#include <thread>
 
 #include "core/error.h"
 #include "frontend/ncc.h"
+#include "frontend/parallel.h"
 #include "frontend/patch_match.h"
 #include "io/image.h"
 
@@ -24,33 +24,6 @@ Eigen::Matrix3d OpenCvK(const Camera& c) {
   k(0, 2) -= 0.5;
   k(1, 2) -= 0.5;
   return k;
-}
-
-int Threads(int requested) {
-  if (requested > 0) return requested;
-  return std::max(1u, std::thread::hardware_concurrency());
-}
-
-template <typename F>
-void ParallelFor(int n, int threads, F&& f) {
-  std::atomic<int> next{0};
-  std::vector<std::thread> pool;
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  for (int t = 0; t < std::min(threads, n); ++t) {
-    pool.emplace_back([&] {
-      for (int i = next++; i < n; i = next++) {
-        try {
-          f(i);
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(error_mutex);
-          if (!error) error = std::current_exception();
-        }
-      }
-    });
-  }
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
 }
 
 // Unit plane normal of a depth map's pixel in world space, or zero when the map has none.
@@ -241,7 +214,7 @@ DepthMap ComputeDepthMap(const DepthMap& ref_in, const std::vector<const DepthMa
 
 DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
                        const DenseOptions& options, const std::function<void(int, int)>& progress) {
-  const int threads = Threads(options.threads);
+  const int threads = ThreadCount(options.threads);
   const auto neighbors = SelectNeighbors(model, options.num_neighbors);
 
   // Load and scale every photo.

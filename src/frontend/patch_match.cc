@@ -3,13 +3,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
-#include <thread>
 
 #include "frontend/ncc.h"
+#include "frontend/parallel.h"
 
 namespace hdribr {
 namespace {
@@ -45,19 +44,6 @@ std::uint64_t Seed(int photo, int level, int pass, int iteration, int y) {
   return (static_cast<std::uint64_t>(photo) << 40) ^ (static_cast<std::uint64_t>(level) << 32) ^
          (static_cast<std::uint64_t>(pass) << 28) ^ (static_cast<std::uint64_t>(iteration) << 20) ^
          static_cast<std::uint64_t>(y);
-}
-
-// Calls f(y) for y in [0, h) on `threads` threads.
-template <typename F>
-void ParallelRows(int h, int threads, const F& f) {
-  std::atomic<int> next{0};
-  auto work = [&] {
-    for (int y = next++; y < h; y = next++) f(y);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min(threads, h); ++t) pool.emplace_back(work);
-  work();
-  for (auto& th : pool) th.join();
 }
 
 // A photo at one pyramid level, in OpenCV's pixel convention (pixel centres at integers).
@@ -404,7 +390,7 @@ void UpdatePixel(const Level& lv, State& st, int x, int y, float depth_scale, fl
 
 // Cost of every pixel's current hypothesis.
 void ScoreAll(const Level& lv, State& st, int threads) {
-  ParallelRows(st.h, threads, [&](int y) {
+  ParallelFor(st.h, threads, [&](int y) {
     Scratch sc{std::vector<float>(lv.window->spatial.size()),
                std::vector<float>(lv.window->spatial.size())};
     for (int x = 0; x < st.w; ++x) {
@@ -425,7 +411,7 @@ void Iterate(const Level& lv, State& st, int iterations, int first_scale, int ph
   for (int it = 0; it < iterations; ++it) {
     const float shrink = std::ldexp(1.f, -(first_scale + it));
     for (int color = 0; color < 2; ++color) {
-      ParallelRows(st.h, threads, [&](int y) {
+      ParallelFor(st.h, threads, [&](int y) {
         Rng rng(Seed(photo, level, pass, it * 2 + color, y));
         Scratch sc{std::vector<float>(lv.window->spatial.size()),
                    std::vector<float>(lv.window->spatial.size())};
@@ -611,9 +597,7 @@ void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMat
                          const std::function<void(int, int)>& progress) {
   const PatchMatchOptions& pm = options.patch_match;
   const int n = static_cast<int>(maps.size());
-  const int threads = options.threads > 0
-                          ? options.threads
-                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = ThreadCount(options.threads);
   // Pyramids of the same depth for all photos; they stop before a side falls below 16 pixels.
   int levels = std::max(1, pm.num_levels);
   for (int i = 0; i < n; ++i) {

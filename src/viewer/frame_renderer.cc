@@ -52,19 +52,12 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Camera& camera,
       workspace_(std::move(workspace)),
       max_photo_size_(max_photo_size),
       depth_cache_dir_(std::move(depth_cache_dir)),
+      median_exposure_(scene.MedianRelativeExposure()),
       tonemap_pass_(shaders_),
       false_colour_(shaders_),
       frustum_pass_(shaders_),
       point_pass_(shaders_) {
   frustum_pass_.SetLines(MakeFrustumLines(scene_, 0.15 * scene_.scene_scale));
-  std::vector<double> exposures;
-  for (const Photo& p : scene_.photos) exposures.push_back(scene_.RelativeExposureOf(p));
-  if (!exposures.empty()) {
-    std::nth_element(exposures.begin(),
-                     exposures.begin() + static_cast<std::ptrdiff_t>(exposures.size() / 2),
-                     exposures.end());
-    median_exposure_ = exposures[exposures.size() / 2];
-  }
   // The cloud's sRGB colours (BGR, 0..1); grey when it has none.
   const PointCloud& cloud = scene_.points;
   point_colours_known_ = cloud.HasColors();

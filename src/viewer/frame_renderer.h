@@ -91,12 +91,12 @@ class FrameRenderer {
   std::unique_ptr<render::Renderer> ldr_;
   std::unique_ptr<render::HdrRenderer> hdr_;
   std::unique_ptr<render::LoadedHdrPhotoSet> set_;
+  double median_exposure_;  // relative exposure of EV 0 through the camera's response
   render::TonemapPass tonemap_pass_;
   FalseColourPass false_colour_;
   FrustumPass frustum_pass_;
   render::PointColorPass point_pass_;
   bool point_colours_known_ = true;  // false: the cloud has no colours (grey splats)
-  double median_exposure_ = 1;       // relative exposure of EV 0 through the camera curve
   render::RenderTarget target_;
   gl::Texture display_;  // what the screenshot saves: the picture without overlays
   gl::Framebuffer display_fb_;

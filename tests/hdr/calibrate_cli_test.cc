@@ -38,13 +38,20 @@ std::vector<double> NumbersAfter(const std::string& text, const std::string& pre
   return out;
 }
 
+// Options of a capture of `series` x `views` photos of w x h, without novel views.
+synth::CaptureOptions Photos(int series, int views, int w, int h) {
+  synth::CaptureOptions o;
+  o.series = series;
+  o.views = views;
+  o.width = w;
+  o.height = h;
+  o.novel_views = 0;
+  return o;
+}
+
 TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
   const fs::path cap = test::TempDir("calibrate_cli") / "capture";
-  synth::CaptureOptions o;
-  o.views = 12;  // 36 photos over 4 stops
-  o.width = 256;
-  o.height = 192;
-  o.novel_views = 0;
+  synth::CaptureOptions o = Photos(3, 12, 256, 192);  // 36 photos over 4 stops
   o.exposure = "auto";
   o.exif_error = 0.05;
   o.seed = 4;
@@ -138,13 +145,7 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
 
 TEST(CalibrateCli, OnePhotoIsOneClearErrorAndWritesNothing) {
   const fs::path cap = test::TempDir("calibrate_cli_one") / "capture";
-  synth::CaptureOptions o;
-  o.series = 1;
-  o.views = 1;
-  o.width = 64;
-  o.height = 48;
-  o.novel_views = 0;
-  synth::WriteCapture(o, cap);
+  synth::WriteCapture(Photos(1, 1, 64, 48), cap);
   const fs::path ws = cap / "workspace";
   const std::string exe = HDRIBR_EXE;
   auto r = test::RunCommand(exe + " calibrate " + ws.string() + " 2>&1");
@@ -161,13 +162,7 @@ TEST(CalibrateCli, OnePhotoIsOneClearErrorAndWritesNothing) {
 // calibrated from its cloud), reused by the next command.
 TEST(CalibrateCli, PhotoFolderToHdrInOneCommand) {
   const fs::path cap = test::TempDir("calibrate_cli_photos") / "capture";
-  synth::CaptureOptions o;
-  o.series = 2;
-  o.views = 6;
-  o.width = 320;
-  o.height = 240;
-  o.novel_views = 0;
-  synth::WriteCapture(o, cap);
+  synth::WriteCapture(Photos(2, 6, 320, 240), cap);
   const fs::path photos = cap / "photos";
   const std::string exe = HDRIBR_EXE;
   auto r = test::RunCommand(exe + " hdr " + photos.string() + " --no-aligned 2>&1");
