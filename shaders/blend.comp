@@ -51,8 +51,11 @@ layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (worl
 // that agree with it (soft at the photo's depth discontinuities); 0: visible when one agrees.
 layout(location = 14) uniform int u_soft_visibility;
 
-#ifndef MAX_K
-#define MAX_K 32
+// Entries of the per-pixel list of best photos: K (the K best weights) or K + 1 (Unstructured
+// Lumigraph: the K smallest penalties and the threshold); each K compiles its own program, so
+// that the list stays in registers (constant indices only).
+#ifndef KEEP
+#define KEEP 5
 #endif
 
 const float kHalfPi = 1.5707963;
@@ -117,23 +120,24 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   return agree > 0 ? 1.0 : 0.0;
 }
 
-// Geometric weight of photo i for the sample (0 when photo i does not see it); uvl receives
-// the texture coordinate and the level of detail in the photo, feather a factor in (0, 1] of
-// the final weight (for the background: falling to 0 at the photo's frame, so that no seam
-// shows where a photo's frame crosses the sky; for points, the soft visibility or 1), penalty the Unstructured
-// Lumigraph penalty angle(V, V_k) (radians) + delta_k. At infinity V_k = V (angle 0, cos 1),
-// and delta_k is the distance |C_k - C| between the centres: what lies beyond the points is
-// far but not infinitely far, and its parallax grows with that distance (the limit of eq. 4,
-// (C_k - C) . d, would ignore sideways offsets).
-float Weight(int i, Sample s, out vec3 uvl, out float feather, out float penalty) {
+// Geometric weight of photo i for the sample (0 when photo i does not see it, or when its
+// ranking key, -penalty for the Unstructured Lumigraph or an upper bound of the weight
+// otherwise, is <= min_key: it could not enter the list of best photos, and the shadow-map test
+// is skipped); uvl receives the texture coordinate and the level of detail in the photo,
+// feather a factor in (0, 1] of the final weight (for the background: falling to 0 at the
+// photo's frame, so that no seam shows where a photo's frame crosses the sky; for points, the
+// soft visibility or 1), penalty the Unstructured Lumigraph penalty angle(V, V_k) (radians) +
+// delta_k. At infinity V_k = V (angle 0, cos 1), and delta_k is the distance |C_k - C| between
+// the centres: what lies beyond the points is far but not infinitely far, and its parallax
+// grows with that distance (the limit of eq. 4, (C_k - C) . d, would ignore sideways offsets).
+float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float feather,
+             out float penalty) {
   uvl = vec3(0.0);
   feather = 1.0;
   penalty = 0.0;
   vec2 px;
   vec3 pk;
   if (!ProjectInto(i, s, px, pk)) return 0.0;
-  float visibility = VisibleIn(i, s, px, pk.z);
-  if (visibility <= 0.0) return 0.0;
   float cos_k = 1.0;
   float delta = 0.0;
   float footprint;  // photo texels per target pixel
@@ -160,15 +164,17 @@ float Weight(int i, Sample s, out vec3 uvl, out float feather, out float penalty
     feather = max(clamp(min(border.x, border.y) / (kFeather * max(size.x, size.y)), 0.0, 1.0),
                   1e-3);
   }
-  feather *= visibility;
-  float w = feather;
-  if (u_nearest == 0) {
-    w = feather * cos_k / (delta + 1.0);  // eq. 5
-    penalty = acos(min(cos_k, 1.0)) + delta;
+  if (u_nearest == 0) penalty = acos(min(cos_k, 1.0)) + delta;
+  // The weight with full visibility bounds the weight (eq. 5).
+  if ((ulr ? -penalty : u_nearest == 0 ? feather * cos_k / (delta + 1.0) : feather) <= min_key) {
+    return 0.0;
   }
+  float visibility = VisibleIn(i, s, px, pk.z);
+  if (visibility <= 0.0) return 0.0;
+  feather *= visibility;
   vec4 tex = photos[i].tex;
   uvl = vec3(clamp(px * tex.xy, vec2(0.0), tex.zw), log2(max(footprint, 1e-6)));
-  return w;
+  return u_nearest == 0 ? feather * cos_k / (delta + 1.0) : feather;  // eq. 5
 }
 
 // The blended quantity of photo i at uvl; hat receives Debevec's hat weight (radiance
@@ -222,22 +228,29 @@ void main() {
     float debug_w = 0.0;
     float count = 0.0;
     // Candidates: every photo (paper, u_k_best = 0), or the K best by weight, or the K + 1
-    // smallest penalties (Unstructured Lumigraph), kept sorted by insertion.
+    // smallest penalties (Unstructured Lumigraph), kept sorted (larger key first; a new photo
+    // goes after those of an equal key).
     bool ulr = u_weights == 1 && u_nearest == 0;
-    int k = u_k_best <= 0 ? MAX_K : min(u_k_best, MAX_K);
-    int keep = ulr ? k + 1 : k;
-    float best_key[MAX_K + 1];
-    float best_w[MAX_K + 1];
-    float best_f[MAX_K + 1];
-    int best_i[MAX_K + 1];
-    vec3 best_uvl[MAX_K + 1];
+    int k = ulr ? KEEP - 1 : KEEP;
+    float best_key[KEEP];
+    float best_w[KEEP];
+    float best_f[KEEP];
+    int best_i[KEEP];
+    vec3 best_uvl[KEEP];
+    for (int j = 0; j < KEEP; ++j) {
+      best_key[j] = -3.0e38;
+      best_w[j] = 0.0;
+      best_f[j] = 0.0;
+      best_i[j] = -1;
+      best_uvl[j] = vec3(0.0);
+    }
     int n_best = 0;
     for (int a = 0; a < u_active_count; ++a) {
       int i = active_photos[a];
       vec3 uvl;
       float feather;
       float penalty;
-      float w = Weight(i, s, uvl, feather, penalty);
+      float w = Weight(i, s, ulr, best_key[KEEP - 1], uvl, feather, penalty);
       if (w <= 0.0) continue;
       if (u_k_best <= 0 && !ulr) {  // all photos: accumulate directly
         vec3 hat;
@@ -250,36 +263,41 @@ void main() {
         continue;
       }
       float key = ulr ? -penalty : w;  // larger is better
-      if (n_best == keep && key <= best_key[keep - 1]) continue;
-      int j = min(n_best, keep - 1);
-      while (j > 0 && best_key[j - 1] < key) {
-        best_key[j] = best_key[j - 1];
-        best_w[j] = best_w[j - 1];
-        best_f[j] = best_f[j - 1];
-        best_i[j] = best_i[j - 1];
-        best_uvl[j] = best_uvl[j - 1];
-        --j;
+      if (key <= best_key[KEEP - 1]) continue;
+      // Carried down the list, swapping with every entry it beats: an insertion with constant
+      // indices; the entry carried past the end is dropped.
+      for (int j = 0; j < KEEP; ++j) {
+        if (key > best_key[j]) {
+          float t_key = best_key[j], t_w = best_w[j], t_f = best_f[j];
+          int t_i = best_i[j];
+          vec3 t_uvl = best_uvl[j];
+          best_key[j] = key;
+          best_w[j] = w;
+          best_f[j] = feather;
+          best_i[j] = i;
+          best_uvl[j] = uvl;
+          key = t_key;
+          w = t_w;
+          feather = t_f;
+          i = t_i;
+          uvl = t_uvl;
+        }
       }
-      best_key[j] = key;
-      best_w[j] = w;
-      best_f[j] = feather;
-      best_i[j] = i;
-      best_uvl[j] = uvl;
-      n_best = min(n_best + 1, keep);
+      n_best = min(n_best + 1, KEEP);
     }
     if (ulr && n_best > 0) {
       // Threshold: the (K+1)-th penalty, or the paper's cosine horizon when fewer photos see P.
       // (floored: K + 1 photos from exactly the view's direction would give 0 / 0).
-      float t = max(n_best > k ? -best_key[k] : kHalfPi, 1e-4);
+      float t = max(n_best > k ? -best_key[KEEP - 1] : kHalfPi, 1e-4);
       n_best = min(n_best, k);
-      for (int j = 0; j < n_best; ++j) {
+      for (int j = 0; j < KEEP; ++j) {
         float p = -best_key[j];
-        best_w[j] = best_f[j] * max(0.0, 1.0 - p / t) / max(p, 1e-4);
+        best_w[j] = j < n_best ? best_f[j] * max(0.0, 1.0 - p / t) / max(p, 1e-4) : 0.0;
       }
       if (best_w[0] <= 0.0) best_w[0] = 1.0;  // every penalty beyond the horizon: the best
     }
-    for (int j = 0; j < n_best; ++j) {
-      if (best_w[j] <= 0.0) continue;
+    for (int j = 0; j < KEEP; ++j) {
+      if (j >= n_best || best_w[j] <= 0.0) continue;
       vec3 hat;
       vec3 c = PhotoValue(best_i[j], best_uvl[j], hat);
       sum += best_w[j] * hat * c;

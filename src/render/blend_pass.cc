@@ -39,8 +39,19 @@ Eigen::Vector4d BackgroundSphere(const Scene& scene) {
   return {scene.centroid.x(), scene.centroid.y(), scene.centroid.z(), radius};
 }
 
-BlendPass::BlendPass(const gl::ShaderLibrary& shaders)
-    : program_(shaders.Build({"blend.comp"}, {{"MAX_K", std::to_string(kMaxKBest)}})) {}
+BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
+  ProgramFor(kDefaultUnstructuredK + 1);  // the default's, so that compile errors show early
+}
+
+const gl::Program& BlendPass::ProgramFor(int keep) const {
+  auto it = programs_.find(keep);
+  if (it == programs_.end()) {
+    it = programs_
+             .emplace(keep, shaders_.Build({"blend.comp"}, {{"KEEP", std::to_string(keep)}}))
+             .first;
+  }
+  return it->second;
+}
 
 void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
                           const PhotoDepthMaps& depth_maps) {
@@ -118,7 +129,12 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   } else if (k_best >= active_count_) {
     k_best = 0;  // K >= the active photos is all of them (exactly)
   }
-  const GLuint p = program_.id();
+  // The per-pixel list: K + 1 entries for the Unstructured Lumigraph, K for the paper's K best
+  // (1, unused, when every photo is blended).
+  const bool nearest = options.mode == BlendMode::kNearestPhoto;
+  const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
+  const gl::Program& program = ProgramFor(keep);
+  const GLuint p = program.id();
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
   glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
   const float intr[4] = {static_cast<float>(camera.fx()), static_cast<float>(camera.fy()),
@@ -132,13 +148,13 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1f(p, 7, inv_scene_scale_);
   glProgramUniform1i(p, 8, options.debug_photo);
   glProgramUniform1i(p, 9, options.encoding == PhotoEncoding::kRadiance ? 1 : 0);
-  glProgramUniform1i(p, 10, options.mode == BlendMode::kNearestPhoto ? 1 : 0);
+  glProgramUniform1i(p, 10, nearest ? 1 : 0);
   glProgramUniform1i(p, 11, ulr ? 1 : 0);
   glProgramUniform1i(p, 12, static_cast<int>(options.background));
   glProgramUniform4fv(p, 13, 1, sphere_);
   glProgramUniform1i(p, 14, static_cast<int>(options.visibility));
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  program_.Use();
+  program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_.id());
   glBindTextureUnit(0, depth.depth.id());

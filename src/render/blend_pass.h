@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <vector>
 
 #include "core/camera.h"
@@ -43,7 +44,12 @@ class BlendPass {
                gl::Texture& aux) const;
 
  private:
-  gl::Program program_;
+  // The program whose per-pixel list holds `keep` photos (KEEP in shaders/blend.comp), built
+  // on first use.
+  const gl::Program& ProgramFor(int keep) const;
+
+  const gl::ShaderLibrary& shaders_;
+  mutable std::map<int, gl::Program> programs_;  // by KEEP
   gl::Buffer photos_;
   gl::Buffer active_;
   GLuint photo_texture_ = 0;

@@ -190,7 +190,18 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   } else {
     m.last.photos = m.active;
   }
-  m.Upload(m.last.photos);
+  if (m.options.max_candidates > 0 && m.candidates && m.last.photos.size() > 1 &&
+      m.options.blend.mode != BlendMode::kNearestPhoto) {
+    // The blend visits the best-scored candidates first: the photos it then meets mostly rank
+    // below its list and skip their shadow-map test (shaders/blend.comp, Weight).
+    std::vector<int> order = m.last.photos;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return m.candidates->score(a) > m.candidates->score(b);
+    });
+    m.Upload(order);
+  } else {
+    m.Upload(m.last.photos);
+  }
   // The older set is re-used: read it first if it is done (it is overwritten otherwise).
   m.newest = 1 - m.newest;
   Impl::Stamps& stamps = m.stamps[m.newest];
