@@ -44,6 +44,10 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_option("--exposure", opt->exposure_ev, "Exposure in EV (stops)")->default_val(0);
   sub.add_option("--key", opt->key, "Reinhard key")->default_val(0.18);
   sub.add_option("--gamma", *gamma, "Display gamma (default 2.2 for HDR, 1 for LDR)");
+  sub.add_option("--frame-budget", opt->frame_budget_ms,
+                 "Frame time while the view moves, ms: smaller pictures and fewer photos until the "
+                 "view stops, then full quality (0 = always full; default 100, 0 with --frames)")
+      ->check(CLI::Range(0.0, 10000.0));
   sub.add_option("--frames", opt->frames, "Scripted: exit after N frames (0 = interactive)")
       ->default_val(0)
       ->check(kAtLeastZero);

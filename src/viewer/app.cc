@@ -104,7 +104,8 @@ class ViewerApp {
   InputController input_;
   std::unique_ptr<FrameRenderer> renderer_;
   int frame_ = 0;
-  double now_s_ = 0;  // this frame's time
+  bool screenshot_pending_ = false;  // P pressed: saved once the picture is at full quality
+  double now_s_ = 0;                 // this frame's time
   double fps_ = 0;
   ResourceSample soak_start_;
 };
@@ -112,9 +113,8 @@ class ViewerApp {
 InputActions ViewerApp::Actions() {
   InputActions a;
   a.screenshot = [this] {
-    char name[64];
-    std::snprintf(name, sizeof(name), "hdribr_screenshot_%03d.png", frame_ % 1000);
-    state_.status = "saved " + renderer_->Screenshot(name).string();
+    screenshot_pending_ = true;
+    state_.status = "screenshot: at the next full-quality frame";
   };
   a.toggle_recording = [this] {
     const std::string status = paths_.ToggleRecording(now_s_, controller_.cam_from_world());
@@ -187,6 +187,12 @@ int ViewerApp::Run() {
                     paths_.recording(), renderer_->has_camera_curve()});
     renderer_->Load(state_);
     renderer_->Render(state_, controller_.cam_from_world(), fw, fh);
+    if (screenshot_pending_ && renderer_->full_quality()) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "hdribr_screenshot_%03d.png", frame_ % 1000);
+      state_.status = "saved " + renderer_->Screenshot(name).string();
+      screenshot_pending_ = false;
+    }
     renderer_->Blit(fw, fh, state_.frustums, state_.current_photo);
     ImGuiScope::Draw();
     ++frame_;
@@ -198,8 +204,18 @@ int ViewerApp::Run() {
     if (opt_.soak_frames > 0) SoakFrame(frame_);
     if (last_frame) break;
   }
-  if (opt_.benchmark) RunBenchmark(*renderer_, controller_, state_, state_.settings.source);
-  if (!opt_.screenshot.empty() && renderer_->has_display()) renderer_->Screenshot(opt_.screenshot);
+  if (opt_.benchmark) {
+    RunBenchmark(*renderer_, controller_, state_, state_.settings.source,
+                 opt_.frame_budget_ms.value_or(kDefaultFrameBudgetMs));
+  }
+  if (!opt_.screenshot.empty() && renderer_->has_display()) {
+    // The last picture at full quality, whatever the frame budget.
+    while (!renderer_->full_quality()) {
+      renderer_->Render(state_, controller_.cam_from_world(), renderer_->width(),
+                        renderer_->height());
+    }
+    renderer_->Screenshot(opt_.screenshot);
+  }
   return 0;
 }
 

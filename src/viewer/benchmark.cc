@@ -33,31 +33,58 @@ long ResidentKb() {
 }  // namespace
 
 void RunBenchmark(FrameRenderer& renderer, CameraController& controller, ViewState& state,
-                  HdrSource source) {
+                  HdrSource source, double budget_ms) {
   const int n = 10;
   const int w = renderer.width(), h = renderer.height();
-  double move_ms = 0, expo_ms = 0, move_gpu = 0, expo_gpu = 0;
+  const auto frame = [&] {
+    renderer.Render(state, controller.cam_from_world(), w, h);
+    renderer.Blit(w, h, false, 0);
+    glFinish();
+  };
+  state.frame_budget_ms = 0;
+  double move_ms = 0, expo_ms = 0, move_gpu = 0, expo_gpu = 0, depth_gpu = 0, blend_gpu = 0;
   for (int i = 0; i < n; ++i) {
     controller.Orbit(0.01, 0);
     const auto t0 = Clock::now();
-    renderer.Render(state, controller.cam_from_world(), w, h);
+    frame();
     move_ms += MsSince(t0);
     const FrameStats& s = renderer.stats();
     move_gpu += s.render_gpu.depth_ms + s.render_gpu.blend_ms + s.tonemap_gpu_ms;
+    depth_gpu += s.render_gpu.depth_ms;
+    blend_gpu += s.render_gpu.blend_ms;
   }
   for (int i = 0; i < n; ++i) {
     state.exposure_ev += 0.1f;
     renderer.MarkDisplayDirty();
     const auto t0 = Clock::now();
-    renderer.Render(state, controller.cam_from_world(), w, h);
+    frame();
     expo_ms += MsSince(t0);
     expo_gpu += renderer.stats().tonemap_gpu_ms;
   }
   std::printf(
-      "viewer benchmark %dx%d, %zu photos, %s: camera move %.2f ms/frame (GPU %.2f ms), "
-      "exposure change %.2f ms/frame (GPU %.2f ms)\n",
+      "viewer benchmark %dx%d, %zu photos, %s: camera move %.2f ms/frame (GPU %.2f ms: depth "
+      "%.2f, blend %.2f), exposure change %.2f ms/frame (GPU %.2f ms)\n",
       w, h, renderer.photo_count(), HdrSourceName(source).c_str(), move_ms / n, move_gpu / n,
-      expo_ms / n, expo_gpu / n);
+      depth_gpu / n, blend_gpu / n, expo_ms / n, expo_gpu / n);
+  if (budget_ms <= 0) return;
+  // Progressive: the first frames find the size that fits the budget, the rest are timed.
+  state.frame_budget_ms = budget_ms;
+  const int warm_up = 10, timed = 30;
+  double orbit_ms = 0, scale = 0;
+  for (int i = 0; i < warm_up + timed; ++i) {
+    controller.Orbit(0.01, 0);
+    const auto t0 = Clock::now();
+    frame();
+    if (i < warm_up) continue;
+    orbit_ms += MsSince(t0);
+    scale += renderer.stats().scale;
+  }
+  const auto stop = Clock::now();
+  while (!renderer.full_quality()) frame();
+  std::printf(
+      "viewer benchmark progressive, budget %.0f ms: orbit %.1f frames/s (%.1f ms/frame, mean "
+      "size %.1f%% of the window), full quality %.0f ms after the camera stops\n",
+      budget_ms, 1000.0 * timed / orbit_ms, orbit_ms / timed, 100 * scale / timed, MsSince(stop));
 }
 
 void SoakStep(int frame, CameraController& controller, ViewState& state) {

@@ -8,9 +8,12 @@
 
 namespace hdribr::viewer {
 
-// Times 10 camera moves then 10 exposure changes at the current size and prints one line.
+// Times 10 camera moves then 10 exposure changes at full quality and prints one line; then,
+// with a frame budget of `budget_ms`, an orbit of 40 frames (frames per second over the last
+// 30, the mean rendered size) and the time from the camera's stop to the full-quality picture,
+// and prints a second line. Frames are timed with the blit into the window.
 void RunBenchmark(FrameRenderer& renderer, CameraController& controller, ViewState& state,
-                  HdrSource source);
+                  HdrSource source, double budget_ms);
 
 // One soak step for frame `frame`: even frames orbit, odd frames change the exposure (by
 // +-0.1 EV in turn, so that it stays bounded).

@@ -23,6 +23,8 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+double NowS() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+
 }  // namespace
 
 void ClearWindow(int fb_width, int fb_height) {
@@ -139,55 +141,87 @@ void FrameRenderer::Load(ViewState& state) {
   tonemap_pass_.ResetHistory();
 }
 
+FrameRenderer::Surface FrameRenderer::Surface::Create(int width, int height) {
+  Surface s;
+  s.target = render::RenderTarget::Create(width, height);
+  s.display = gl::Texture::Create2D(GL_RGBA8, width, height);
+  s.display_fb = gl::Framebuffer::Create();
+  s.display_fb.AttachColor(0, s.display);
+  s.composite = gl::Texture::Create2D(GL_RGBA8, width, height);
+  s.composite_fb = gl::Framebuffer::Create();
+  s.composite_fb.AttachColor(0, s.composite);
+  s.splats = gl::Texture::Create2D(GL_RGBA32F, width, height);
+  return s;
+}
+
 void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int width, int height) {
   if (width <= 0 || height <= 0) return;  // minimised
-  if (target_.width() != width || target_.height() != height) {
-    target_ = render::RenderTarget::Create(width, height);
-    display_ = gl::Texture::Create2D(GL_RGBA8, width, height);
-    display_fb_ = gl::Framebuffer::Create();
-    display_fb_.AttachColor(0, display_);
-    composite_ = gl::Texture::Create2D(GL_RGBA8, width, height);
-    composite_fb_ = gl::Framebuffer::Create();
-    composite_fb_.AttachColor(0, composite_);
-    splats_ = gl::Texture::Create2D(GL_RGBA32F, width, height);
+  if (window_width_ != width || window_height_ != height) {
+    surfaces_ = {};
+    window_width_ = width;
+    window_height_ = height;
+    level_ = -1;
+    schedule_.ResetCosts();
     render_dirty_ = true;
   }
-  if (!pose.rotation.isApprox(rendered_pose_.rotation, 1e-12) ||
-      !pose.translation.isApprox(rendered_pose_.translation, 1e-12)) {
-    render_dirty_ = true;
-  }
-  if (render_dirty_) {
+  if (schedule_.budget_ms() != state.frame_budget_ms) schedule_.SetBudget(state.frame_budget_ms);
+  const bool changed = render_dirty_ || !pose.rotation.isApprox(rendered_pose_.rotation, 1e-12) ||
+                       !pose.translation.isApprox(rendered_pose_.translation, 1e-12);
+  const int level = schedule_.Next(changed, NowS());
+  double frame_ms = 0;
+  bool measured = level >= 0;
+  if (level >= 0) {
     const auto t0 = Clock::now();
-    const Camera cam = camera_.Scaled(width, height);
+    Surface& surface = surfaces_[static_cast<size_t>(level)];
+    if (surface.target.width() == 0) {
+      surface = Surface::Create(LevelSize(width, level), LevelSize(height, level));
+      measured = false;  // the first frame of a size pays for its allocation
+    }
+    level_ = level;
+    const int w = surface.target.width(), h = surface.target.height();
+    // A reduced frame also blends fewer candidate photos; full quality uses the setting.
+    const int cap = loaded_settings_.max_candidates;
+    render::Renderer& r = BaseRenderer();
+    r.SetMaxCandidates(level == ProgressiveSchedule::kFull ||
+                               (cap > 0 && cap < kMotionMaxCandidates)
+                           ? cap
+                           : kMotionMaxCandidates);
+    const Camera cam = camera_.Scaled(w, h);
     if (hdr_) {
-      hdr_->Render(cam, pose, target_);
+      hdr_->Render(cam, pose, surface.target);
     } else {
-      ldr_->Render(cam, pose, target_);
+      ldr_->Render(cam, pose, surface.target);
     }
     if (state.display == DisplayMode::kPointColours) RenderSplats(cam, pose);
     glFinish();
     stats_.render_wall_ms = MsSince(t0);
-    stats_.render_gpu = BaseRenderer().last_times();
-    const render::FrameCandidates& c = BaseRenderer().last_candidates();
+    frame_ms = stats_.render_wall_ms;
+    stats_.render_gpu = r.last_times();
+    const render::FrameCandidates& c = r.last_candidates();
     stats_.candidates = static_cast<int>(c.photos.size());
     stats_.active = c.active;
     stats_.candidates_ms = c.select_ms;
+    stats_.scale = static_cast<double>(w) / width;
     frustum_pass_.SetCandidates(c.photos);
     rendered_pose_ = pose;
     render_dirty_ = false;
     display_dirty_ = true;
   }
-  if (display_dirty_) {
+  stats_.budget_ms = schedule_.budget_ms();
+  if (display_dirty_ && level_ >= 0) {
     const auto t0 = Clock::now();
     ToneMap(state);
     glFinish();
     stats_.tonemap_wall_ms = MsSince(t0);
+    frame_ms += stats_.tonemap_wall_ms;
     display_dirty_ = false;
   }
+  if (measured) schedule_.Record(level, frame_ms);
 }
 
-// The radiance target (or the splats, or a false-colour map of it) into display_.
+// The current surface's radiance target (or its splats, or a false-colour map) into its display.
 void FrameRenderer::ToneMap(const ViewState& state) {
+  Surface& surface = Current();
   const int photos = static_cast<int>(scene_.photos.size());
   switch (state.display) {
     case DisplayMode::kFinal:
@@ -199,7 +233,7 @@ void FrameRenderer::ToneMap(const ViewState& state) {
         o.camera_curve = true;  // relative exposure per target unit
         o.exposure = static_cast<float>(median_exposure_ * o.exposure / hdr_->target_scale());
       }
-      stats_.last_la = tonemap_pass_.Apply(target_.color, o, display_);
+      stats_.last_la = tonemap_pass_.Apply(surface.target.color, o, surface.display);
       stats_.tonemap_gpu_ms = tonemap_pass_.last_ms();
       break;
     }
@@ -209,7 +243,7 @@ void FrameRenderer::ToneMap(const ViewState& state) {
       o.enabled = false;
       o.exposure = std::exp2(state.exposure_ev);
       o.gamma = 1.0f;
-      tonemap_pass_.Apply(splats_, o, display_);
+      tonemap_pass_.Apply(surface.splats, o, surface.display);
       stats_.tonemap_gpu_ms = tonemap_pass_.last_ms();
       break;
     }
@@ -219,63 +253,69 @@ void FrameRenderer::ToneMap(const ViewState& state) {
       const FalseColourMap map = state.display == DisplayMode::kDepth     ? FalseColourMap::kDepth
                                  : state.display == DisplayMode::kNormals ? FalseColourMap::kNormals
                                                                           : FalseColourMap::kCount;
-      false_colour_.Apply(map, target_, photos, display_);
+      false_colour_.Apply(map, surface.target, photos, surface.display);
       stats_.tonemap_gpu_ms = 0;
       break;
     }
     case DisplayMode::kClasses:
-      if (target_.depth.classes.empty()) {  // a depth pass without classes: nothing to show
-        glClearTexImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+      if (surface.target.depth.classes.empty()) {  // a depth pass without classes: none shown
+        glClearTexImage(surface.display.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
       } else {
-        false_colour_.Apply(FalseColourMap::kClasses, target_, photos, display_,
-                            &target_.depth.classes);
+        false_colour_.Apply(FalseColourMap::kClasses, surface.target, photos, surface.display,
+                            &surface.target.depth.classes);
       }
       stats_.tonemap_gpu_ms = 0;
       break;
   }
 }
 
-// Colour-per-point splats (the paper's Fig. 8 baseline) into splats_, for the tone-map pass.
+// Colour-per-point splats (the paper's Fig. 8 baseline) into the current surface's splats, for
+// the tone-map pass.
 void FrameRenderer::RenderSplats(const Camera& cam, const Rigid3d& pose) {
+  gl::Texture& splats = Current().splats;
   const render::PointColorImages im =
-      point_pass_.Render(cam, pose, splats_.width(), splats_.height());
+      point_pass_.Render(cam, pose, splats.width(), splats.height());
   cv::Mat rgba;
   cv::cvtColor(im.color, rgba, cv::COLOR_BGR2RGBA);
   rgba.setTo(cv::Scalar(0, 0, 0, 0), im.valid == 0);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(splats_.id(), 0, 0, 0, rgba.cols, rgba.rows, GL_RGBA, GL_FLOAT, rgba.ptr());
+  glTextureSubImage2D(splats.id(), 0, 0, 0, rgba.cols, rgba.rows, GL_RGBA, GL_FLOAT, rgba.ptr());
 }
 
 void FrameRenderer::Blit(int fb_width, int fb_height, bool frustums, int current_photo) {
   ClearWindow(fb_width, fb_height);
-  if (display_.empty()) return;
-  GLuint source = display_fb_.id();
+  if (level_ < 0) return;
+  Surface& s = Current();
+  const int w = s.display.width(), h = s.display.height();
+  GLuint source = s.display_fb.id();
   if (frustums) {
-    // Frustums over a copy, so that display_ (the screenshot) stays the bare picture.
-    glCopyImageSubData(display_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, composite_.id(), GL_TEXTURE_2D, 0,
-                       0, 0, 0, display_.width(), display_.height(), 1);
-    frustum_pass_.Draw(camera_.Scaled(display_.width(), display_.height()), rendered_pose_,
-                       target_.depth.depth, composite_fb_, current_photo);
-    source = composite_fb_.id();
+    // Frustums over a copy, so that the display (the screenshot) stays the bare picture.
+    glCopyImageSubData(s.display.id(), GL_TEXTURE_2D, 0, 0, 0, 0, s.composite.id(), GL_TEXTURE_2D,
+                       0, 0, 0, 0, w, h, 1);
+    frustum_pass_.Draw(camera_.Scaled(w, h), rendered_pose_, s.target.depth.depth, s.composite_fb,
+                       current_photo);
+    source = s.composite_fb.id();
   }
-  // The display texture's row 0 is the image's top row; the window's row 0 is its bottom.
+  // The display texture's row 0 is the image's top row; the window's row 0 is its bottom. A
+  // reduced picture is magnified bilinearly.
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glViewport(0, 0, fb_width, fb_height);
-  glBlitNamedFramebuffer(source, 0, 0, 0, display_.width(), display_.height(), 0, fb_height,
-                         fb_width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBlitNamedFramebuffer(source, 0, 0, 0, w, h, 0, fb_height, fb_width, 0, GL_COLOR_BUFFER_BIT,
+                         w == fb_width && h == fb_height ? GL_NEAREST : GL_LINEAR);
 }
 
 std::filesystem::path FrameRenderer::Screenshot(const std::filesystem::path& out) {
   const bool exr = out.extension() == ".exr";
   std::filesystem::path png = exr ? std::filesystem::path(out).replace_extension(".png") : out;
   std::filesystem::path exr_path = std::filesystem::path(out).replace_extension(".exr");
-  cv::Mat rgba(display_.height(), display_.width(), CV_8UC4);
-  glGetTextureImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+  const Surface& surface = Current();
+  cv::Mat rgba(surface.display.height(), surface.display.width(), CV_8UC4);
+  glGetTextureImage(surface.display.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
                     static_cast<GLsizei>(rgba.total() * rgba.elemSize()), rgba.ptr());
   cv::Mat bgra;
   cv::cvtColor(rgba, bgra, cv::COLOR_RGBA2BGRA);
   WriteImage(png, bgra);
-  const render::RenderImages im = render::Renderer::Read(target_);
+  const render::RenderImages im = render::Renderer::Read(surface.target);
   cv::Mat linear = im.color;
   if (hdr_ && hdr_->target_scale() != 1.0) linear = im.color / hdr_->target_scale();
   render::WriteRgbaExr(exr_path, linear, im.valid);

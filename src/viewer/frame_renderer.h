@@ -3,6 +3,7 @@
 // target; tone-map changes re-run only the tone-map pass, camera or blend changes re-render.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -19,6 +20,7 @@
 #include "render/tonemap_pass.h"
 #include "viewer/false_colour_pass.h"
 #include "viewer/frustum_pass.h"
+#include "viewer/progressive.h"
 #include "viewer/view_state.h"
 
 namespace hdribr::viewer {
@@ -33,6 +35,8 @@ struct FrameStats {
   int active = 0;            // active photos they were chosen among
   double candidates_ms = 0;  // CPU time of their choice
   float last_la = 1;         // the L_a of the last tone map (radiance target units)
+  double scale = 1;          // rendered size / window size of the picture on screen (per axis)
+  double budget_ms = 0;      // frame-time budget while moving (0 = every frame full quality)
 };
 
 // Clears the window's framebuffer to the viewer's background (fb_* in pixels).
@@ -56,8 +60,12 @@ class FrameRenderer {
   // (printing what it loads) and re-applies the blend options.
   void Load(ViewState& state);
   // Re-renders the radiance at `pose` when the pose, the size or the blend changed, then the
-  // display when it or the tone mapping changed. Sizes in pixels; 0 = nothing to draw.
+  // display when it or the tone mapping changed. With a frame budget (state.frame_budget_ms),
+  // a change renders a reduced size that fits it and the full size follows once the view is
+  // still (ProgressiveSchedule). Sizes in pixels; 0 = nothing to draw.
   void Render(const ViewState& state, const Rigid3d& pose, int width, int height);
+  // True when the picture on screen is at full quality.
+  bool full_quality() const { return level_ == ProgressiveSchedule::kFull; }
   // The display (with the frustums over it when asked, the candidate photos' in their own
   // colour) into the window's framebuffer.
   void Blit(int fb_width, int fb_height, bool frustums, int current_photo);
@@ -67,9 +75,10 @@ class FrameRenderer {
   // Forces the next Render to re-run the tone map.
   void MarkDisplayDirty() { display_dirty_ = true; }
 
-  bool has_display() const { return !display_.empty(); }
-  int width() const { return target_.width(); }
-  int height() const { return target_.height(); }
+  bool has_display() const { return level_ >= 0; }
+  // The window size the pictures are rendered for.
+  int width() const { return window_width_; }
+  int height() const { return window_height_; }
   const FrameStats& stats() const { return stats_; }
   bool point_colours_known() const { return point_colours_known_; }
   // True when the loaded source has a camera response (ViewState::camera_curve can be shown).
@@ -79,6 +88,19 @@ class FrameRenderer {
  private:
   render::Renderer& BaseRenderer() { return hdr_ ? hdr_->renderer() : *ldr_; }
   const render::Renderer& BaseRenderer() const { return hdr_ ? hdr_->renderer() : *ldr_; }
+  // The GL images of one rendered size: the radiance target, the display (the picture without
+  // overlays, what the screenshot saves), the display with the frustums, the splats (RGBA32F
+  // colour-per-point, a = covered, tone-mapped like the final picture).
+  struct Surface {
+    render::RenderTarget target;
+    gl::Texture display;
+    gl::Framebuffer display_fb;
+    gl::Texture composite;
+    gl::Framebuffer composite_fb;
+    gl::Texture splats;
+    static Surface Create(int width, int height);
+  };
+  Surface& Current() { return surfaces_[static_cast<size_t>(level_)]; }
   void RenderSplats(const Camera& cam, const Rigid3d& pose);
   void ToneMap(const ViewState& state);
 
@@ -97,12 +119,11 @@ class FrameRenderer {
   FrustumPass frustum_pass_;
   render::PointColorPass point_pass_;
   bool point_colours_known_ = true;  // false: the cloud has no colours (grey splats)
-  render::RenderTarget target_;
-  gl::Texture display_;  // what the screenshot saves: the picture without overlays
-  gl::Framebuffer display_fb_;
-  gl::Texture composite_;  // display_ + the frustums, when they are shown
-  gl::Framebuffer composite_fb_;
-  gl::Texture splats_;  // RGBA32F colour-per-point splats (a = covered), tone-mapped like final
+  // One surface per level of the schedule, made when first rendered, for the window's size.
+  std::array<Surface, ProgressiveSchedule::kScales.size()> surfaces_;
+  int window_width_ = 0, window_height_ = 0;
+  int level_ = -1;  // the level of the picture on screen
+  ProgressiveSchedule schedule_;
   Settings loaded_settings_;
   bool loaded_ = false;
   bool options_dirty_ = false;  // display mode changed: blend mode to update

@@ -128,6 +128,15 @@ void DrawPanel(ViewState& state, const PanelInfo& info) {
               stats.last_la);
   ImGui::Text("candidates %d of %d photos (chosen in %.2f ms)", stats.candidates, stats.active,
               stats.candidates_ms);
+  if (stats.scale < 1) {
+    ImGui::Text("moving: %.0f%% of the size, full quality once still", 100 * stats.scale);
+  } else {
+    ImGui::TextUnformatted("full quality");
+  }
+  float budget = static_cast<float>(state.frame_budget_ms);
+  if (ImGui::SliderFloat("frame budget (ms, 0 = off)", &budget, 0, 1000, "%.0f")) {
+    state.frame_budget_ms = budget;
+  }
   DrawToneMapping(state, stats, info.camera_curve);
   ImGui::Separator();
   DrawSettings(state, *info.scene);

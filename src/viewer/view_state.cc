@@ -133,6 +133,9 @@ ViewState InitialViewState(const ViewerOptions& options, const Scene& scene) {
   state.tonemap.smoothing = options.frames > 0 ? 0.0f : 0.9f;  // scripted frames: no history
   state.exposure_ev = options.exposure_ev;
   state.camera_curve = options.camera_curve && hdr;
+  // Scripted frames are all at full quality unless a budget is asked for.
+  state.frame_budget_ms =
+      options.frame_budget_ms.value_or(options.frames > 0 ? 0.0 : kDefaultFrameBudgetMs);
   state.frustums = options.show_frustums;
   state.help = options.show_help;
   state.panel = !options.hide_panel;

@@ -12,6 +12,7 @@
 #include "render/hdr_render.h"
 #include "render/renderer.h"
 #include "render/tonemap_pass.h"
+#include "viewer/progressive.h"
 
 namespace hdribr::viewer {
 
@@ -65,6 +66,8 @@ struct ViewState {
   // of Reinhard (what that camera would take).
   bool camera_curve = false;
   float fixed_la = 1;  // radiance target units
+  // Frame-time budget while the view changes, ms (ProgressiveSchedule); 0 = always full quality.
+  double frame_budget_ms = kDefaultFrameBudgetMs;
   bool frustums = false, help = false, panel = true;
   int current_photo = 0;  // the photo last snapped to (N, [ ])
   std::string status;     // the panel's last line

@@ -27,6 +27,9 @@ struct ViewerOptions {
   // HDR: show the radiance through the camera's response instead (TonemapOptions::camera_curve).
   bool camera_curve = false;
   float exposure_ev = 0;
+  // Frame-time budget while the view changes, ms (0 = every frame at full quality); unset =
+  // kDefaultFrameBudgetMs, or 0 for scripted runs (frames > 0).
+  std::optional<double> frame_budget_ms;
   float key = 0.18f;
   std::optional<float> gamma;
   // Scripted / headless use: exit after `frames` frames (0 = interactive), writing the last

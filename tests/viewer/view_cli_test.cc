@@ -137,6 +137,12 @@ TEST_F(ViewCliTest, BenchmarkReportsExposureVsCameraMove) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("camera move"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("exposure change"), std::string::npos) << r.output;
+  // The progressive orbit at a budget no frame meets: the smallest size, then full quality.
+  EXPECT_NE(r.output.find("progressive, budget 100 ms"), std::string::npos) << r.output;
+  const auto tiny = View("--hdr ldr --camera s0_v00.jpg --benchmark --frame-budget 0.01");
+  ASSERT_EQ(tiny.exit_code, 0) << tiny.output;
+  EXPECT_NE(tiny.output.find("mean size 12.5% of the window"), std::string::npos) << tiny.output;
+  EXPECT_NE(tiny.output.find("full quality"), std::string::npos) << tiny.output;
 }
 
 TEST_F(ViewCliTest, PlaysACameraPath) {
@@ -156,6 +162,14 @@ TEST_F(ViewCliTest, PlaysACameraPath) {
   const Comparison c = Compare(ReadPng(out / "play.png"), ReadPng(out / "render.png"));
   EXPECT_LT(c.validity_mismatch, 0.001);
   EXPECT_LT(c.mad, 0.5);
+  // With a frame budget no frame meets, the moving frame is reduced, and the screenshot is
+  // still the full-quality picture.
+  r = View("--hdr ldr --camera s1_v00.jpg --play " + (out / "path.json").string() +
+           " --frame-budget 0.01 --frames 2 --screenshot " + (out / "play_budget.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Comparison b = Compare(ReadPng(out / "play_budget.png"), ReadPng(out / "render.png"));
+  EXPECT_LT(b.validity_mismatch, 0.001);
+  EXPECT_LT(b.mad, 0.5);
 }
 
 // The GPU-coloured debug displays equal `hdribr render --debug` of the same camera.

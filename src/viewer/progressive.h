@@ -1,0 +1,63 @@
+// Progressive rendering as pure logic (no GL): while the picture's inputs change (camera, blend
+// settings), frames render a share of the window's pixels chosen so that a frame fits a time
+// budget, with fewer candidate photos; once the view has been still for a moment, one frame
+// renders it at full quality.
+#pragma once
+
+#include <array>
+
+namespace hdribr::viewer {
+
+// ProgressiveSchedule's default frame-time budget while moving, milliseconds.
+inline constexpr double kDefaultFrameBudgetMs = 100;
+// Seconds the view must stay still before the full-quality frame (a drag's pauses between
+// input events are shorter).
+inline constexpr double kRefineAfterStillS = 0.12;
+// Most candidate photos of a reduced frame (the full-quality frame uses the viewer's setting).
+inline constexpr int kMotionMaxCandidates = 8;
+
+class ProgressiveSchedule {
+ public:
+  // Resolution levels: the rendered size is the window's times kScales[level] on each axis;
+  // the last level is full quality.
+  static constexpr std::array<double, 8> kScales = {0.125, 1.0 / 6, 0.25,   1.0 / 3,
+                                                    0.5,   2.0 / 3, 0.8125, 1.0};
+  static constexpr int kFull = static_cast<int>(kScales.size()) - 1;
+
+  // budget_ms <= 0: every frame at full quality.
+  explicit ProgressiveSchedule(double budget_ms = kDefaultFrameBudgetMs);
+
+  // Sets the budget (ms, <= 0 = off); the next frame re-plans.
+  void SetBudget(double budget_ms);
+  double budget_ms() const { return budget_ms_; }
+
+  // The level to render this frame, or -1 when the picture on screen is already what it
+  // should be. `changed`: the picture's inputs differ from the last rendered frame's; now_s: a
+  // monotonic clock in seconds.
+  int Next(bool changed, double now_s);
+  // The wall time (ms) a frame of `level` took; refines that level's cost estimate.
+  void Record(int level, double ms);
+  // The cost expected of a frame at `level` (ms): measured, or extrapolated from the nearest
+  // measured level in proportion to the pixels; 0 when no level was measured.
+  double Predicted(int level) const;
+  // The level of the picture on screen (-1 before the first).
+  int shown() const { return shown_; }
+  // Forgets the measured costs (the window size or the settings changed the cost of a frame).
+  void ResetCosts();
+
+ private:
+  int MotionLevel() const;
+
+  double budget_ms_;
+  std::array<double, kScales.size()> cost_ms_{};    // moving average per level, 0 = unknown
+  std::array<long, kScales.size()> measured_at_{};  // records_ at each level's last measurement
+  long records_ = 0;
+  int shown_ = -1;
+  int motion_level_ = -1;  // the last reduced level chosen (hysteresis)
+  double last_change_s_ = -1e30;
+};
+
+// The rendered size of a `width` x `height` window at `level` (at least 16 px a side).
+int LevelSize(int size, int level);
+
+}  // namespace hdribr::viewer
