@@ -30,7 +30,7 @@ BlendWeights ParseBlendWeights(const std::string& name);
 
 // K of BlendWeights::kUnstructured when BlendOptions::k_best is 0.
 inline constexpr int kDefaultUnstructuredK = 4;
-// Largest K of BlendOptions::k_best handled per pixel (MAX_K in shaders/blend.comp).
+// Largest K of BlendOptions::k_best handled per pixel (KEEP - 1 in shaders/blend.comp).
 inline constexpr int kMaxKBest = 32;
 
 // What the blend shows where the depth pass found no point (sky, distant ground, gaps).
