@@ -120,9 +120,13 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   return agree > 0 ? 1.0 : 0.0;
 }
 
+// True when photo i with ranking key `key` ranks before photo i2 with key2: a larger key, or
+// an equal key and a smaller index.
+bool Beats(float key, int i, float key2, int i2) { return key > key2 || (key == key2 && i < i2); }
+
 // Geometric weight of photo i for the sample (0 when photo i does not see it, or when its
 // ranking key, -penalty for the Unstructured Lumigraph or an upper bound of the weight
-// otherwise, is <= min_key: it could not enter the list of best photos, and the shadow-map test
+// otherwise, is < min_key: it could not enter the list of best photos, and the shadow-map test
 // is skipped); uvl receives the texture coordinate and the level of detail in the photo,
 // feather a factor in (0, 1] of the final weight (for the background: falling to 0 at the
 // photo's frame, so that no seam shows where a photo's frame crosses the sky; for points, the
@@ -166,7 +170,7 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
   }
   if (u_nearest == 0) penalty = acos(min(cos_k, 1.0)) + delta;
   // The weight with full visibility bounds the weight (eq. 5).
-  if ((ulr ? -penalty : u_nearest == 0 ? feather * cos_k / (delta + 1.0) : feather) <= min_key) {
+  if ((ulr ? -penalty : u_nearest == 0 ? feather * cos_k / (delta + 1.0) : feather) < min_key) {
     return 0.0;
   }
   float visibility = VisibleIn(i, s, px, pk.z);
@@ -228,8 +232,8 @@ void main() {
     float debug_w = 0.0;
     float count = 0.0;
     // Candidates: every photo (paper, u_k_best = 0), or the K best by weight, or the K + 1
-    // smallest penalties (Unstructured Lumigraph), kept sorted (larger key first; a new photo
-    // goes after those of an equal key).
+    // smallest penalties (Unstructured Lumigraph), kept sorted (Beats), so the list does not
+    // depend on the order the photos are visited in.
     bool ulr = u_weights == 1 && u_nearest == 0;
     int k = ulr ? KEEP - 1 : KEEP;
     float best_key[KEEP];
@@ -241,7 +245,7 @@ void main() {
       best_key[j] = -3.0e38;
       best_w[j] = 0.0;
       best_f[j] = 0.0;
-      best_i[j] = -1;
+      best_i[j] = 0x7fffffff;
       best_uvl[j] = vec3(0.0);
     }
     int n_best = 0;
@@ -263,11 +267,11 @@ void main() {
         continue;
       }
       float key = ulr ? -penalty : w;  // larger is better
-      if (key <= best_key[KEEP - 1]) continue;
+      if (!Beats(key, i, best_key[KEEP - 1], best_i[KEEP - 1])) continue;
       // Carried down the list, swapping with every entry it beats: an insertion with constant
       // indices; the entry carried past the end is dropped.
       for (int j = 0; j < KEEP; ++j) {
-        if (key > best_key[j]) {
+        if (Beats(key, i, best_key[j], best_i[j])) {
           float t_key = best_key[j], t_w = best_w[j], t_f = best_f[j];
           int t_i = best_i[j];
           vec3 t_uvl = best_uvl[j];

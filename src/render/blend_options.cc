@@ -60,6 +60,12 @@ void ValidateBlendOptions(const BlendOptions& options) {
   }
 }
 
+bool BlendRanksPhotos(const BlendOptions& options, int photos) {
+  if (options.mode == BlendMode::kNearestPhoto) return false;
+  if (options.weights == BlendWeights::kUnstructured) return true;
+  return options.k_best > 0 && options.k_best < photos;
+}
+
 int RankedPhotosPerPixel(const BlendOptions& options) {
   if (options.mode == BlendMode::kNearestPhoto) return 1;
   if (options.weights == BlendWeights::kUnstructured) {

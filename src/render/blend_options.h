@@ -93,5 +93,9 @@ void ValidateBlendOptions(const BlendOptions& options);
 // (K+1)-th penalty), K for the paper's weights with K best, 0 when every photo counts, 1 for
 // the nearest photo.
 int RankedPhotosPerPixel(const BlendOptions& options);
+// True when the blend of `photos` photos keeps a per-pixel list of the best ones (the
+// Unstructured Lumigraph, or the paper's K best with K < photos), whose result does not depend
+// on the order the photos are visited in; false when it sums every photo in their order.
+bool BlendRanksPhotos(const BlendOptions& options, int photos);
 
 }  // namespace hdribr::render

@@ -126,7 +126,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
     // K >= the active photos: every photo, thresholded at the cosine horizon (shader).
     if (k_best == 0) k_best = kDefaultUnstructuredK;
     k_best = std::min({k_best, std::max(active_count_, 1), kMaxKBest});
-  } else if (k_best >= active_count_) {
+  } else if (!BlendRanksPhotos(options, active_count_)) {
     k_best = 0;  // K >= the active photos is all of them (exactly)
   }
   // The per-pixel list: K + 1 entries for the Unstructured Lumigraph, K for the paper's K best

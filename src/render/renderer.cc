@@ -190,12 +190,11 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   } else {
     m.last.photos = m.active;
   }
-  if (m.options.max_candidates > 0 && m.candidates && m.last.photos.size() > 1 &&
-      m.options.blend.mode != BlendMode::kNearestPhoto &&
-      RankedPhotosPerPixel(m.options.blend) > 0) {
+  if (m.options.max_candidates > 0 && m.candidates &&
+      BlendRanksPhotos(m.options.blend, static_cast<int>(m.last.photos.size()))) {
     // The blend ranks photos per pixel: it visits the best-scored candidates first, so that
     // the photos it meets later mostly rank below its list and skip their shadow-map test
-    // (shaders/blend.comp, Weight). Blending every photo keeps their order (the sum's).
+    // (shaders/blend.comp, Weight). Summing every photo keeps their order (the sum's).
     std::vector<int> order = m.last.photos;
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
       return m.candidates->score(a) > m.candidates->score(b);
