@@ -46,8 +46,7 @@ BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
 const gl::Program& BlendPass::ProgramFor(int keep) const {
   auto it = programs_.find(keep);
   if (it == programs_.end()) {
-    it = programs_
-             .emplace(keep, shaders_.Build({"blend.comp"}, {{"KEEP", std::to_string(keep)}}))
+    it = programs_.emplace(keep, shaders_.Build({"blend.comp"}, {{"KEEP", std::to_string(keep)}}))
              .first;
   }
   return it->second;

@@ -196,9 +196,8 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
     // the photos it meets later mostly rank below its list and skip their shadow-map test
     // (shaders/blend.comp, Weight). Summing every photo keeps their order (the sum's).
     std::vector<int> order = m.last.photos;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return m.candidates->score(a) > m.candidates->score(b);
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return m.candidates->score(a) > m.candidates->score(b); });
     m.Upload(order);
   } else {
     m.Upload(m.last.photos);
