@@ -66,8 +66,9 @@ class ImGuiScope {
 
 class ViewerApp {
  public:
-  ViewerApp(const ViewerOptions& opt, gl::WindowContext& window)
+  ViewerApp(const ViewerOptions& opt, gl::WindowContext& window, double start_s)
       : opt_(opt),
+        start_s_(start_s),
         window_(window),
         scene_(LoadScene(opt.workspace)),
         state_(InitialViewState(opt, scene_)),
@@ -94,6 +95,7 @@ class ViewerApp {
   void SoakFrame(int frame);
 
   const ViewerOptions& opt_;
+  double start_s_;  // when RunViewer was called (NowS)
   gl::WindowContext& window_;
   Scene scene_;
   ViewState state_;
@@ -201,6 +203,11 @@ int ViewerApp::Run() {
       SaveWindow(opt_.window_screenshot, fw, fh);
     }
     window_.SwapBuffers();
+    if (frame_ == 1) {
+      std::printf("first picture %.1f s after start (%.0f%% of the window's size)\n",
+                  NowS() - start_s_, 100 * renderer_->stats().scale);
+      std::fflush(stdout);
+    }
     if (opt_.soak_frames > 0) SoakFrame(frame_);
     if (last_frame) break;
   }
@@ -235,6 +242,7 @@ bool CanOpenWindow() {
 }
 
 int RunViewer(const ViewerOptions& options) {
+  const double start_s = NowS();
   ViewerOptions opt = options;
   if (opt.soak_frames > 0) opt.frames = opt.soak_frames;
   // The window size: the initial camera's (at most 1280 wide) unless given.
@@ -253,7 +261,7 @@ int RunViewer(const ViewerOptions& options) {
   }
   gl::WindowContext window(width, height, "hdribr view " + opt.workspace.string(), !opt.hidden);
   glfwSwapInterval(opt.frames > 0 ? 0 : 1);
-  ViewerApp app(opt, window);
+  ViewerApp app(opt, window, start_s);
   return app.Run();
 }
 

@@ -84,7 +84,7 @@ int ProgressiveSchedule::Next(bool changed, double now_s) {
   }
   if (changed) {
     last_change_s_ = now_s;
-    motion_level_ = MotionLevel();
+    motion_level_ = Predicted(kFull) > 0 ? MotionLevel() : kFirstLevel;
     shown_ = motion_level_;
     return shown_;
   }

@@ -15,6 +15,9 @@ inline constexpr double kDefaultFrameBudgetMs = 100;
 inline constexpr double kRefineAfterStillS = 0.12;
 // Most candidate photos of a reduced frame (the full-quality frame uses the viewer's setting).
 inline constexpr int kMotionMaxCandidates = 8;
+// The level of the first frame with a budget, before any cost is known: a quick first picture
+// (it measures the machine), refined once still.
+inline constexpr int kFirstLevel = 2;
 
 class ProgressiveSchedule {
  public:

@@ -20,8 +20,14 @@ TEST(ProgressiveSchedule, WithoutABudgetEveryChangeIsFullQuality) {
 
 TEST(ProgressiveSchedule, MovingFitsTheBudgetThenRefinesOnceStill) {
   ProgressiveSchedule s(100);
-  // Nothing measured yet: the first picture is full quality, and measures it.
-  EXPECT_EQ(s.Next(true, 0.0), kFull);
+  // Nothing measured yet: a quick first picture, which measures the machine.
+  EXPECT_EQ(s.Next(true, 0.0), kFirstLevel);
+  s.Record(kFirstLevel, 800.0 * ProgressiveSchedule::kScales[kFirstLevel] *
+                            ProgressiveSchedule::kScales[kFirstLevel]);
+  EXPECT_EQ(s.Predicted(kFull), 800);
+  // Refined once still: full quality, which measures the full size.
+  EXPECT_EQ(s.Next(false, kRefineAfterStillS / 2), -1);
+  EXPECT_EQ(s.Next(false, 2 * kRefineAfterStillS), kFull);
   s.Record(kFull, 800);
   // Moving: the largest level whose pixels (at 800 ms for all of them) fit 100 ms.
   const int moving = s.Next(true, 1.0);
@@ -41,7 +47,7 @@ TEST(ProgressiveSchedule, MovingFitsTheBudgetThenRefinesOnceStill) {
 TEST(ProgressiveSchedule, LearnsTheCostOfReducedFrames) {
   ProgressiveSchedule s(100);
   s.Next(true, 0.0);
-  s.Record(kFull, 800);
+  s.Record(kFull, 800);  // as if measured by a full-quality frame
   int level = s.Next(true, 0.1);
   // Fixed costs make the reduced frame dearer than its share of the pixels: it steps down.
   for (int i = 0; i < 20; ++i) {
