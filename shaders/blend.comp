@@ -15,18 +15,24 @@ struct PhotoGpu {
   mat4 cam_from_world;
   vec4 intrinsics;  // fx, fy, cx, cy in pixels of the photo's camera
   vec4 center;      // xyz: centre in world, w: 1 / relative exposure
-  vec4 size;        // xy: camera size in pixels, z: photo-texture texels per camera pixel
+  vec4 size;        // xy: camera size in pixels, z: photo-texture texels per camera pixel,
+                    // w: level of detail added in the coarse copy (u_cached)
   vec4 tex;         // xy: texture coordinate per camera pixel, zw: largest texture coordinate
   vec4 dmap;        // xy: depth-map texels per camera pixel, zw: depth-map layer size
+  vec4 coarse;      // u_cached: xy coarse-copy coordinate per u_photos one, zw its largest
 };
 layout(std430, binding = 0) readonly buffer Photos { PhotoGpu photos[]; };
 layout(std430, binding = 1) readonly buffer Active { int active_photos[]; };
+// u_cached: photo i's layer in u_photos, -1 when only its coarse copy is resident.
+layout(std430, binding = 2) readonly buffer SlotMap { int slot_of[]; };
 
 layout(binding = 0) uniform sampler2D u_depth;           // new view: camera z, 0 = none
 layout(binding = 1) uniform sampler2D u_normal;          // new view: camera-space normal
 layout(binding = 2) uniform sampler2DArray u_photos;     // layer i = photo i, mipmapped
+                                                          // (u_cached: layer slot_of[i])
 layout(binding = 3) uniform sampler2DArray u_photo_depth; // layer i = photo i's camera z
 layout(binding = 4) uniform sampler2D u_response;        // 256 x 1: g(Z) per channel (RGB)
+layout(binding = 5) uniform sampler2DArray u_coarse;     // u_cached: layer i = photo i, coarse
 
 layout(binding = 0, rgba32f) writeonly uniform image2D u_out_color;
 layout(binding = 1, rgba32f) writeonly uniform image2D u_out_aux;
@@ -50,6 +56,9 @@ layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (worl
 // 1: a point's visibility in a photo is the share of the 2x2 depth texels about its projection
 // that agree with it (soft at the photo's depth discontinuities); 0: visible when one agrees.
 layout(location = 14) uniform int u_soft_visibility;
+// 1: the photos are in a cache (render/photo_cache.h): u_photos holds the resident ones in
+// slots, u_coarse a coarse copy of every photo; 0: u_photos holds every photo.
+layout(location = 15) uniform int u_cached;
 
 #ifndef MAX_K
 #define MAX_K 32
@@ -174,7 +183,16 @@ float Weight(int i, Sample s, out vec3 uvl, out float feather, out float penalty
 // The blended quantity of photo i at uvl; hat receives Debevec's hat weight (radiance
 // encoding; 1 otherwise).
 vec3 PhotoValue(int i, vec3 uvl, out vec3 hat) {
-  vec3 c = textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
+  vec3 c;
+  if (u_cached == 0) {
+    c = textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
+  } else if (slot_of[i] >= 0) {
+    c = textureLod(u_photos, vec3(uvl.xy, float(slot_of[i])), uvl.z).rgb;
+  } else {
+    vec4 co = photos[i].coarse;
+    c = textureLod(u_coarse, vec3(min(uvl.xy * co.xy, co.zw), float(i)), uvl.z + photos[i].size.w)
+            .rgb;
+  }
   hat = vec3(1.0);
   if (u_encoding == 1) {
     vec3 z = clamp(c * 255.0, 0.0, 255.0);
