@@ -1,5 +1,7 @@
 #include "render/photo_cache.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -122,6 +124,13 @@ PhotoCache::~PhotoCache() = default;
 
 void PhotoCache::Request(const std::vector<int>& wanted, bool wait) {
   Collect(loader_->TakeDone());
+  if (wanted.size() > slot_.size() && !warned_) {
+    spdlog::warn(
+        "photo cache: {} candidate photos for {} full-size slots: the others are blended from "
+        "their coarse copies (a larger GPU memory budget or fewer candidates avoids it)",
+        wanted.size(), slot_.size());
+    warned_ = true;
+  }
   ++frame_;
   std::vector<bool> is_wanted(slot_of_.size(), false);
   for (int p : wanted) is_wanted[static_cast<size_t>(p)] = true;

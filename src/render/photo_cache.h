@@ -109,6 +109,7 @@ class PhotoCache {
   std::vector<Slot> slot_;
   std::vector<int> slot_of_;  // per photo, -1 when none
   bool map_dirty_ = true;
+  bool warned_ = false;  // about more candidates than slots
   long frame_ = 0;
   size_t in_flight_ = 0;
   size_t loads_ = 0, evictions_ = 0;
