@@ -25,12 +25,15 @@ layout(std430, binding = 0) readonly buffer Photos { PhotoGpu photos[]; };
 layout(std430, binding = 1) readonly buffer Active { int active_photos[]; };
 // u_cached: photo i's layer in u_photos, -1 when only its coarse copy is resident.
 layout(std430, binding = 2) readonly buffer SlotMap { int slot_of[]; };
+// u_cached_depth: photo i's layer in u_photo_depth, -1 when its depth map is not resident.
+layout(std430, binding = 3) readonly buffer DepthSlotMap { int depth_slot_of[]; };
 
 layout(binding = 0) uniform sampler2D u_depth;           // new view: camera z, 0 = none
 layout(binding = 1) uniform sampler2D u_normal;          // new view: camera-space normal
 layout(binding = 2) uniform sampler2DArray u_photos;     // layer i = photo i, mipmapped
                                                           // (u_cached: layer slot_of[i])
 layout(binding = 3) uniform sampler2DArray u_photo_depth; // layer i = photo i's camera z
+                                                          // (u_cached_depth: depth_slot_of[i])
 layout(binding = 4) uniform sampler2D u_response;        // 256 x 1: g(Z) per channel (RGB)
 layout(binding = 5) uniform sampler2DArray u_coarse;     // u_cached: layer i = photo i, coarse
 
@@ -59,6 +62,8 @@ layout(location = 14) uniform int u_soft_visibility;
 // 1: the photos are in a cache (render/photo_cache.h): u_photos holds the resident ones in
 // slots, u_coarse a coarse copy of every photo; 0: u_photos holds every photo.
 layout(location = 15) uniform int u_cached;
+// 1: u_photo_depth holds the depth maps of the cache's depth slots (depth_slot_of).
+layout(location = 16) uniform int u_cached_depth;
 
 #ifndef MAX_K
 #define MAX_K 32
@@ -108,6 +113,8 @@ bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
 // passes when it agrees with one of them, a background sample (which lies beyond every point)
 // when one of them holds no point.
 float VisibleIn(int i, Sample s, vec2 px, float z_k) {
+  int layer = u_cached_depth == 1 ? depth_slot_of[i] : i;
+  if (layer < 0) return 0.0;  // no depth map resident: nothing to test against
   vec4 dmap = photos[i].dmap;
   ivec2 d0 = ivec2(floor(px * dmap.xy - 0.5));
   ivec2 dmax = ivec2(dmap.zw) - 1;
@@ -116,7 +123,7 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   for (int dy = 0; dy <= 1; ++dy) {
     for (int dx = 0; dx <= 1; ++dx) {
       ivec2 t = clamp(d0 + ivec2(dx, dy), ivec2(0), dmax);
-      float dk = texelFetch(u_photo_depth, ivec3(t, i), 0).r;
+      float dk = texelFetch(u_photo_depth, ivec3(t, layer), 0).r;
       if (dk <= 0.0) any_empty = true;
       if (dk > 0.0 && abs(z_k - dk) <= u_tolerance * dk) ++agree;
     }

@@ -106,7 +106,8 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuin
   photos_ = gl::Buffer(gpu.size() * sizeof(PhotoGpu), gpu.data());
   photo_texture_ = texture;
   cache_ = cache;
-  depth_maps_ = depth_maps.depth().id();
+  cached_depth_ = cache && cache->caches_depth();
+  depth_maps_ = cached_depth_ ? cache->depth_texture() : depth_maps.depth().id();
   photo_count_ = static_cast<int>(scene.photos.size());
   inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
   const Eigen::Vector4d sphere = BackgroundSphere(scene);
@@ -166,11 +167,14 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform4fv(p, 13, 1, sphere_);
   glProgramUniform1i(p, 14, static_cast<int>(options.visibility));
   glProgramUniform1i(p, 15, cache_ ? 1 : 0);
+  glProgramUniform1i(p, 16, cached_depth_ ? 1 : 0);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program_.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, cache_ ? cache_->slot_map() : active_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3,
+                   cached_depth_ ? cache_->depth_slot_map() : active_.id());
   glBindTextureUnit(0, depth.depth.id());
   glBindTextureUnit(1, depth.normal.id());
   glBindTextureUnit(2, photo_texture_);

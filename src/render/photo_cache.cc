@@ -63,14 +63,20 @@ std::string Mib(size_t bytes) {
 
 }  // namespace
 
-std::optional<PhotoCachePlan> PlanPhotoCache(const PhotoLayout& layout, size_t depth_bytes,
-                                             size_t budget_bytes) {
-  if (layout.Bytes() + depth_bytes <= budget_bytes) return std::nullopt;
+namespace {
+
+// The plan with every depth map resident (depth_slots 0) or `depth_slots` of them; nullopt
+// when it leaves no full-size slot.
+std::optional<PhotoCachePlan> PlanWith(const PhotoLayout& layout, size_t depth_layer_bytes,
+                                       int depth_slots, size_t budget_bytes) {
   const size_t photos = layout.sizes.size();
   const size_t layer = layout.LayerBytes();
-  const size_t left = budget_bytes > depth_bytes ? budget_bytes - depth_bytes : 0;
-  // The finest coarse copies within their share (the coarsest are 1 x 1 per photo).
   PhotoCachePlan plan;
+  plan.depth_slots = depth_slots;
+  plan.depth_bytes =
+      depth_layer_bytes * (depth_slots > 0 ? static_cast<size_t>(depth_slots) : photos);
+  const size_t left = budget_bytes > plan.depth_bytes ? budget_bytes - plan.depth_bytes : 0;
+  // The finest coarse copies within their share (the coarsest are 1 x 1 per photo).
   const int max_shift = std::max(1, layout.levels - 1);
   for (plan.fallback_shift = 1; plan.fallback_shift < max_shift; ++plan.fallback_shift) {
     if (FallbackLayout(layout, plan.fallback_shift).Bytes() <= kFallbackShare * left) break;
@@ -79,18 +85,48 @@ std::optional<PhotoCachePlan> PlanPhotoCache(const PhotoLayout& layout, size_t d
   const size_t for_slots = left > plan.fallback_bytes ? left - plan.fallback_bytes : 0;
   plan.slots = static_cast<int>(std::min(photos, for_slots / layer));
   plan.slot_bytes = static_cast<size_t>(plan.slots) * layer;
-  if (plan.slots < 1) {
-    const size_t need = depth_bytes + FallbackLayout(layout, max_shift).Bytes() + layer;
-    throw OptionError("gpu_memory_mb",
-                      Mib(budget_bytes) + " MiB cannot hold the photos' depth maps (" +
-                          Mib(depth_bytes) + " MiB), their coarse copies and one full-size " +
-                          "photo (" + Mib(layer) + " MiB): at least " + Mib(need) + " MiB");
-  }
+  if (plan.slots < 1) return std::nullopt;
   return plan;
 }
 
+}  // namespace
+
+std::optional<PhotoCachePlan> PlanPhotoCache(const PhotoLayout& layout, size_t depth_layer_bytes,
+                                             int candidates, size_t budget_bytes) {
+  const size_t photos = layout.sizes.size();
+  if (layout.Bytes() + depth_layer_bytes * photos <= budget_bytes) return std::nullopt;
+  const int per_frame =
+      candidates > 0 ? static_cast<int>(std::min<size_t>(static_cast<size_t>(candidates), photos))
+                     : static_cast<int>(photos);
+  const std::optional<PhotoCachePlan> resident =
+      PlanWith(layout, depth_layer_bytes, 0, budget_bytes);
+  if (resident && resident->slots >= per_frame) return resident;
+  if (per_frame < static_cast<int>(photos)) {
+    const std::optional<PhotoCachePlan> slotted =
+        PlanWith(layout, depth_layer_bytes, per_frame, budget_bytes);
+    if (slotted && (!resident || slotted->slots > resident->slots)) return slotted;
+  }
+  if (resident) return resident;
+  // The smallest budget that works, to name it (to a KiB).
+  const int depth_slots = per_frame < static_cast<int>(photos) ? per_frame : 0;
+  size_t low = budget_bytes, high = std::max<size_t>(budget_bytes, 1024) * 2;
+  while (!PlanWith(layout, depth_layer_bytes, depth_slots, high)) high *= 2;
+  while (high - low > 1024) {
+    const size_t mid = low + (high - low) / 2;
+    (PlanWith(layout, depth_layer_bytes, depth_slots, mid) ? high : low) = mid;
+  }
+  const size_t depth =
+      depth_layer_bytes * (depth_slots > 0 ? static_cast<size_t>(depth_slots) : photos);
+  throw OptionError("gpu_memory_mb",
+                    Mib(budget_bytes) + " MiB cannot hold the depth maps of a frame's photos (" +
+                        Mib(depth) + " MiB), the photos' coarse copies and one full-size " +
+                        "photo (" + Mib(layout.LayerBytes()) + " MiB): at least " + Mib(high) +
+                        " MiB");
+}
+
 PhotoCache::PhotoCache(const Scene& scene, std::vector<cv::Mat> images, PhotoLayout layout,
-                       const PhotoCachePlan& plan)
+                       const PhotoCachePlan& plan, std::vector<cv::Mat> depth_layers,
+                       cv::Size depth_size)
     : layout_(std::move(layout)),
       fallback_layout_(FallbackLayout(layout_, plan.fallback_shift)),
       plan_(plan),
@@ -116,6 +152,17 @@ PhotoCache::PhotoCache(const Scene& scene, std::vector<cv::Mat> images, PhotoLay
   slot_.resize(static_cast<size_t>(plan.slots));
   slot_of_.assign(n, -1);
   slot_map_ = gl::Buffer(std::max<size_t>(1, n) * sizeof(int), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  if (plan.depth_slots > 0) {
+    HDRIBR_CHECK(depth_layers.size() == n && depth_size.width > 0 && depth_size.height > 0);
+    depth_layers_ = std::move(depth_layers);
+    depth_slots_ =
+        gl::Texture::Create2DArray(GL_R32F, depth_size.width, depth_size.height, plan.depth_slots);
+    glClearTexImage(depth_slots_.id(), 0, GL_RED, GL_FLOAT, zero);
+    depth_slot_.resize(static_cast<size_t>(plan.depth_slots));
+    depth_slot_of_.assign(n, -1);
+    const std::vector<int> none(std::max<size_t>(1, n), -1);
+    depth_slot_map_ = gl::Buffer(none.size() * sizeof(int), none.data(), GL_DYNAMIC_STORAGE_BIT);
+  }
   UploadMap();
   loader_ = std::make_unique<PhotoLoader>(scene, images_, layout_);
 }
@@ -130,6 +177,13 @@ void PhotoCache::Request(const std::vector<int>& wanted, bool wait) {
         "their coarse copies (a larger GPU memory budget or fewer candidates avoids it)",
         wanted.size(), slot_.size());
     warned_ = true;
+  }
+  if (caches_depth() && wanted.size() > depth_slot_.size() && !warned_depth_) {
+    spdlog::warn(
+        "photo cache: {} candidate photos for {} depth-map slots: the others are left out (a "
+        "larger GPU memory budget or fewer candidates avoids it)",
+        wanted.size(), depth_slot_.size());
+    warned_depth_ = true;
   }
   ++frame_;
   std::vector<bool> is_wanted(slot_of_.size(), false);
@@ -166,10 +220,51 @@ void PhotoCache::Request(const std::vector<int>& wanted, bool wait) {
     loader_->Request(p);
     ++in_flight_;
   }
+  if (caches_depth()) RequestDepth(wanted, is_wanted);
   if (wait) {
     Settle();
   } else {
     UploadMap();
+  }
+}
+
+void PhotoCache::RequestDepth(const std::vector<int>& wanted, const std::vector<bool>& is_wanted) {
+  for (int p : wanted) {
+    const int s = depth_slot_of_[static_cast<size_t>(p)];
+    if (s >= 0) depth_slot_[static_cast<size_t>(s)].last_used = frame_;
+  }
+  bool changed = false;
+  for (int p : wanted) {
+    if (depth_slot_of_[static_cast<size_t>(p)] >= 0) continue;
+    int best = -1;
+    for (size_t s = 0; s < depth_slot_.size(); ++s) {
+      const Slot& c = depth_slot_[s];
+      if (c.photo >= 0 && is_wanted[static_cast<size_t>(c.photo)]) continue;
+      if (best < 0 || c.photo < 0 ||
+          (depth_slot_[static_cast<size_t>(best)].photo >= 0 &&
+           c.last_used < depth_slot_[static_cast<size_t>(best)].last_used)) {
+        best = static_cast<int>(s);
+        if (c.photo < 0) break;
+      }
+    }
+    if (best < 0) break;  // every depth slot holds a wanted photo
+    Slot& slot = depth_slot_[static_cast<size_t>(best)];
+    if (slot.photo >= 0) depth_slot_of_[static_cast<size_t>(slot.photo)] = -1;
+    slot.photo = p;
+    slot.last_used = frame_;
+    depth_slot_of_[static_cast<size_t>(p)] = best;
+    // The layer's corner; the blend never reads beyond the photo's own size (clamped).
+    const cv::Mat& d = depth_layers_[static_cast<size_t>(p)];
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(depth_slots_.id(), 0, 0, 0, best, d.cols, d.rows, 1, GL_RED, GL_FLOAT,
+                        d.data);
+    changed = true;
+  }
+  if (changed) {
+    std::vector<int> map(std::max<size_t>(1, depth_slot_of_.size()), -1);
+    std::copy(depth_slot_of_.begin(), depth_slot_of_.end(), map.begin());
+    glNamedBufferSubData(depth_slot_map_.id(), 0, static_cast<GLsizeiptr>(map.size() * sizeof(int)),
+                         map.data());
   }
 }
 
@@ -233,7 +328,9 @@ PhotoResidency PhotoCache::residency() const {
   }
   r.pending = static_cast<int>(in_flight_);
   r.fallback_divisor = 1 << plan_.fallback_shift;
-  r.resident_bytes = plan_.fallback_bytes + plan_.slot_bytes;
+  r.depth_slots = plan_.depth_slots;
+  r.depth_bytes = plan_.depth_bytes;
+  r.resident_bytes = plan_.fallback_bytes + plan_.slot_bytes + plan_.depth_bytes;
   r.total_bytes = layout_.Bytes();
   r.loads = loads_;
   r.evictions = evictions_;

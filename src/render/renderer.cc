@@ -32,6 +32,8 @@ struct Renderer::Impl {
   DepthPass depth_pass;
   PhotoLayout layout;  // the photos' sizes, measured before any upload
   PhotoDepthMaps depth_maps;
+  cv::Size depth_size;     // the depth maps' array
+  size_t depth_total = 0;  // every depth map, bytes
   size_t budget = 0;
   // Every photo at full size, or (beyond the budget) the cache.
   std::optional<PhotoTextures> textures;
@@ -72,10 +74,20 @@ struct Renderer::Impl {
         budget(GpuBudgetBytes(options.gpu_memory_mb)) {
     options.photo_depths.clear();
     options.photo_depths.shrink_to_fit();
-    const std::optional<PhotoCachePlan> plan = PlanPhotoCache(layout, DepthBytes(), budget);
+    depth_size = cv::Size(depth_maps.depth().width(), depth_maps.depth().height());
+    const size_t depth_layer = static_cast<size_t>(depth_size.area()) * 4;
+    depth_total = depth_layer * scene.photos.size();
+    const int per_frame =
+        options.blend.mode == BlendMode::kNearestPhoto ? 1 : options.max_candidates;
+    const std::optional<PhotoCachePlan> plan =
+        PlanPhotoCache(layout, depth_layer, per_frame, budget);
     if (plan) {
-      // The cache keeps photos given in memory for its loads.
-      cache = std::make_unique<PhotoCache>(scene, std::move(options.photo_images), layout, *plan);
+      // The cache keeps photos given in memory for its loads, and with depth slots every
+      // depth map on the CPU.
+      std::vector<cv::Mat> depth_layers;
+      if (plan->depth_slots > 0) depth_layers = depth_maps.TakeLayers();
+      cache = std::make_unique<PhotoCache>(scene, std::move(options.photo_images), layout, *plan,
+                                           std::move(depth_layers), depth_size);
       blend.SetPhotos(scene, *cache, depth_maps);
     } else {
       textures.emplace(s, options.photo_images, layout);
@@ -86,12 +98,6 @@ struct Renderer::Impl {
     options.photo_images.shrink_to_fit();
     SetAll();
     if (options.response) response = MakeResponseLut(*options.response);
-  }
-
-  size_t DepthBytes() const {
-    const gl::Texture& d = depth_maps.depth();
-    return static_cast<size_t>(d.width()) * static_cast<size_t>(d.height()) *
-           static_cast<size_t>(d.layers()) * 4;
   }
 
   static DepthPassOptions WithPoints(DepthPassOptions o) { return o; }
@@ -299,18 +305,16 @@ PhotoResidency Renderer::residency() const {
   const Impl& m = *impl_;
   PhotoResidency r;
   if (m.cache) {
-    r = m.cache->residency();
+    r = m.cache->residency();  // its resident bytes count the depth maps it holds
   } else {
     r.photos = static_cast<int>(m.scene.photos.size());
     r.full_size = r.photos;
     r.slots = r.photos;
-    r.resident_bytes = m.layout.Bytes();
-    r.total_bytes = m.layout.Bytes();
+    r.depth_bytes = m.depth_total;
+    r.resident_bytes = m.layout.Bytes() + m.depth_total;
   }
   r.budget_bytes = m.budget;
-  r.depth_bytes = m.DepthBytes();
-  r.resident_bytes += r.depth_bytes;
-  r.total_bytes += r.depth_bytes;
+  r.total_bytes = m.layout.Bytes() + m.depth_total;
   return r;
 }
 

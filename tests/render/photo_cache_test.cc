@@ -1,7 +1,8 @@
 // The photo cache (render/photo_cache.h): a capture whose photos need four times the GPU
 // memory budget renders its first frame with the pixels of the all-resident render (coarse
 // copies, no hole), exactly the all-resident render once the cache has settled, evicts when
-// the view turns to other photos, and refuses budgets it cannot work with.
+// the view turns to other photos, caches the depth maps too when they do not fit, and refuses
+// budgets it cannot work with.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -92,11 +93,12 @@ class PhotoCacheTest : public test::GlSuite {
     images_.clear();
     GlSuite::TearDownTestSuite();
   }
-  static RendererOptions Options() {
+  // Depth maps at a quarter of the photos' size by default: small enough to stay resident.
+  static RendererOptions Options(double depth_scale = 0.25) {
     RendererOptions ro;
     ro.photo_images = images_;
     ro.max_candidates = kCandidates;
-    ro.photo_depth_scale = 0.25;  // the depth maps stay resident: keep them small
+    ro.photo_depth_scale = depth_scale;
     return ro;
   }
   // A quarter of what the photos need at full size with their mipmaps, MiB.
@@ -178,6 +180,41 @@ TEST_F(PhotoCacheTest, OtherPhotosEvictAndWaitingRendersEqualTheAllResidentRende
   ASSERT_GT(static_cast<int>(seen.size()), r.slots);  // the views need more than the slots
   EXPECT_GT(r.evictions, 0u);
   EXPECT_EQ(r.loads, r.evictions + static_cast<size_t>(r.full_size));
+}
+
+// Depth maps of the photos' size and a quarter of what photos and depth maps need: the depth
+// maps get a slot per candidate (uploaded with the frame), the first frame still has the
+// all-resident valid pixels, the settled one its colours.
+TEST_F(PhotoCacheTest, DepthMapsBeyondTheBudgetAreCachedToo) {
+  const Camera cam = test::TestCamera(160);
+  Renderer all(*shaders_, *scene_, Options(1.0));
+  const PhotoResidency everything = all.residency();
+  EXPECT_FALSE(everything.cached);
+  RendererOptions ro = Options(1.0);
+  ro.gpu_memory_mb = static_cast<double>(everything.total_bytes) / 4.0 / 1048576.0;
+  ro.wait_for_photos = false;
+  Renderer cached(*shaders_, *scene_, ro);
+  const PhotoResidency r = cached.residency();
+  std::printf("budget %.3f MiB: resident %.3f of %.3f MiB (depth %.3f), %d slots, %d depth slots\n",
+              ro.gpu_memory_mb, r.resident_bytes / 1048576.0, r.total_bytes / 1048576.0,
+              r.depth_bytes / 1048576.0, r.slots, r.depth_slots);
+  ASSERT_TRUE(r.cached);
+  EXPECT_EQ(r.depth_slots, kCandidates);
+  EXPECT_LT(r.depth_bytes, everything.depth_bytes);
+  EXPECT_LE(r.resident_bytes, r.budget_bytes);
+  ASSERT_GE(r.slots, kCandidates);
+  for (const Rigid3d& view : {kView, kOtherView}) {
+    const RenderImages reference = all.RenderToImages(cam, view, 160, 160);
+    const RenderImages first = cached.RenderToImages(cam, view, 160, 160);
+    EXPECT_TRUE(Same(first.valid, reference.valid));
+    EXPECT_TRUE(Same(first.count, reference.count));
+    EXPECT_FALSE(Same(first.color, reference.color));
+    cached.SettleCache();
+    const RenderImages settled = cached.RenderToImages(cam, view, 160, 160);
+    EXPECT_TRUE(Same(settled.color, reference.color));
+    EXPECT_TRUE(Same(settled.valid, reference.valid));
+  }
+  EXPECT_GT(cached.residency().evictions, 0u);
 }
 
 TEST_F(PhotoCacheTest, BadBudgetsAreOptionErrors) {
