@@ -3,6 +3,7 @@
 // (points + synthetic photos).
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "cli/bench_cloud.h"
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -128,6 +130,9 @@ int Run(const BenchRenderOptions& opt) {
       render::RendererOptions ro;
       ro.photo_images = std::move(images);
       ro.gpu_memory_mb = budget;
+      // The cache's plan sizes its slots for the largest cap (0 = every photo).
+      ro.max_candidates = *std::max_element(caps.begin(), caps.end());
+      if (std::find(caps.begin(), caps.end(), 0) != caps.end()) ro.max_candidates = 0;
       const auto s0 = std::chrono::steady_clock::now();
       render::Renderer renderer(shaders, scene, ro);
       const double setup_s =
@@ -252,7 +257,7 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
                  "photos' size caches them)")
       ->default_val(opt->gpu_memory);
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
-  return [opt] { return Run(*opt); };
+  return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };
 }
 
 }  // namespace hdribr::cli
