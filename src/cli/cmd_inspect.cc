@@ -68,11 +68,12 @@ nlohmann::json GpuReport(const Scene& scene, int max_photo_size, double gpu_memo
   ro.gpu_memory_mb = gpu_memory_mb;
   const render::Renderer renderer(shaders, scene, ro);
   const render::PhotoResidency r = renderer.residency();
-  return {{"gpu_bytes", r.resident_bytes},    {"resident_bytes", r.resident_bytes},
-          {"total_bytes", r.total_bytes},     {"budget_bytes", r.budget_bytes},
-          {"depth_bytes", r.depth_bytes},     {"cached", r.cached},
-          {"full_size_slots", r.slots},       {"fallback_divisor", r.fallback_divisor},
-          {"max_photo_size", max_photo_size}, {"renderer", context.Renderer()}};
+  return {{"gpu_bytes", r.resident_bytes}, {"resident_bytes", r.resident_bytes},
+          {"total_bytes", r.total_bytes},  {"budget_bytes", r.budget_bytes},
+          {"depth_bytes", r.depth_bytes},  {"cached", r.cached},
+          {"full_size_slots", r.slots},    {"fallback_divisor", r.fallback_divisor},
+          {"depth_slots", r.depth_slots},  {"max_photo_size", max_photo_size},
+          {"renderer", context.Renderer()}};
 }
 
 int Run(const InspectOptions& opt) {
@@ -147,9 +148,9 @@ int Run(const InspectOptions& opt) {
         scene.scene_scale);
     if (!gpu.is_null()) {
       std::printf(
-          "gpu memory   %.1f MiB resident of %.1f MiB (photo textures + depth maps, the depth maps "
-          "%.1f MiB; max "
-          "photo size %s; budget %.1f MiB; %s)\n",
+          "gpu memory   %.2f MiB resident of %.2f MiB (photo textures + depth maps, the depth maps "
+          "%.2f MiB; max "
+          "photo size %s; budget %.2f MiB; %s)\n",
           gpu["resident_bytes"].get<size_t>() / 1048576.0,
           gpu["total_bytes"].get<size_t>() / 1048576.0,
           gpu["depth_bytes"].get<size_t>() / 1048576.0,
@@ -157,8 +158,12 @@ int Run(const InspectOptions& opt) {
           gpu["budget_bytes"].get<size_t>() / 1048576.0,
           gpu["renderer"].get<std::string>().c_str());
       if (gpu["cached"].get<bool>()) {
-        std::printf("photo cache  %d full-size slots, coarse copies at 1/%d size\n",
-                    gpu["full_size_slots"].get<int>(), gpu["fallback_divisor"].get<int>());
+        const int depth_slots = gpu["depth_slots"].get<int>();
+        const std::string depth =
+            depth_slots > 0 ? std::to_string(depth_slots) + " slots" : "all resident";
+        std::printf("photo cache  %d full-size slots, coarse copies at 1/%d size, depth maps %s\n",
+                    gpu["full_size_slots"].get<int>(), gpu["fallback_divisor"].get<int>(),
+                    depth.c_str());
       }
     }
     std::printf("problems     %zu\n", problems.size());
