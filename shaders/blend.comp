@@ -15,18 +15,27 @@ struct PhotoGpu {
   mat4 cam_from_world;
   vec4 intrinsics;  // fx, fy, cx, cy in pixels of the photo's camera
   vec4 center;      // xyz: centre in world, w: 1 / relative exposure
-  vec4 size;        // xy: camera size in pixels, z: photo-texture texels per camera pixel
+  vec4 size;        // xy: camera size in pixels, z: photo-texture texels per camera pixel,
+                    // w: level of detail added in the coarse copy (u_cached)
   vec4 tex;         // xy: texture coordinate per camera pixel, zw: largest texture coordinate
   vec4 dmap;        // xy: depth-map texels per camera pixel, zw: depth-map layer size
+  vec4 coarse;      // u_cached: xy coarse-copy coordinate per u_photos one, zw its largest
 };
 layout(std430, binding = 0) readonly buffer Photos { PhotoGpu photos[]; };
 layout(std430, binding = 1) readonly buffer Active { int active_photos[]; };
+// u_cached: photo i's layer in u_photos, -1 when only its coarse copy is resident.
+layout(std430, binding = 2) readonly buffer SlotMap { int slot_of[]; };
+// u_cached_depth: photo i's layer in u_photo_depth, -1 when its depth map is not resident.
+layout(std430, binding = 3) readonly buffer DepthSlotMap { int depth_slot_of[]; };
 
 layout(binding = 0) uniform sampler2D u_depth;           // new view: camera z, 0 = none
 layout(binding = 1) uniform sampler2D u_normal;          // new view: camera-space normal
 layout(binding = 2) uniform sampler2DArray u_photos;     // layer i = photo i, mipmapped
+                                                          // (u_cached: layer slot_of[i])
 layout(binding = 3) uniform sampler2DArray u_photo_depth; // layer i = photo i's camera z
+                                                          // (u_cached_depth: depth_slot_of[i])
 layout(binding = 4) uniform sampler2D u_response;        // 256 x 1: g(Z) per channel (RGB)
+layout(binding = 5) uniform sampler2DArray u_coarse;     // u_cached: layer i = photo i, coarse
 
 layout(binding = 0, rgba32f) writeonly uniform image2D u_out_color;
 layout(binding = 1, rgba32f) writeonly uniform image2D u_out_aux;
@@ -50,6 +59,11 @@ layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (worl
 // 1: a point's visibility in a photo is the share of the 2x2 depth texels about its projection
 // that agree with it (soft at the photo's depth discontinuities); 0: visible when one agrees.
 layout(location = 14) uniform int u_soft_visibility;
+// 1: the photos are in a cache (render/photo_cache.h): u_photos holds the resident ones in
+// slots, u_coarse a coarse copy of every photo; 0: u_photos holds every photo.
+layout(location = 15) uniform int u_cached;
+// 1: u_photo_depth holds the depth maps of the cache's depth slots (depth_slot_of).
+layout(location = 16) uniform int u_cached_depth;
 
 // Entries of the per-pixel list of best photos: K (the K best weights) or K + 1 (Unstructured
 // Lumigraph: the K smallest penalties and the threshold); each K compiles its own program, so
@@ -102,6 +116,8 @@ bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
 // passes when it agrees with one of them, a background sample (which lies beyond every point)
 // when one of them holds no point.
 float VisibleIn(int i, Sample s, vec2 px, float z_k) {
+  int layer = u_cached_depth == 1 ? depth_slot_of[i] : i;
+  if (layer < 0) return 0.0;  // no depth map resident: nothing to test against
   vec4 dmap = photos[i].dmap;
   ivec2 d0 = ivec2(floor(px * dmap.xy - 0.5));
   ivec2 dmax = ivec2(dmap.zw) - 1;
@@ -110,7 +126,7 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   for (int dy = 0; dy <= 1; ++dy) {
     for (int dx = 0; dx <= 1; ++dx) {
       ivec2 t = clamp(d0 + ivec2(dx, dy), ivec2(0), dmax);
-      float dk = texelFetch(u_photo_depth, ivec3(t, i), 0).r;
+      float dk = texelFetch(u_photo_depth, ivec3(t, layer), 0).r;
       if (dk <= 0.0) any_empty = true;
       if (dk > 0.0 && abs(z_k - dk) <= u_tolerance * dk) ++agree;
     }
@@ -184,7 +200,16 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
 // The blended quantity of photo i at uvl; hat receives Debevec's hat weight (radiance
 // encoding; 1 otherwise).
 vec3 PhotoValue(int i, vec3 uvl, out vec3 hat) {
-  vec3 c = textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
+  vec3 c;
+  if (u_cached == 0) {
+    c = textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
+  } else if (slot_of[i] >= 0) {
+    c = textureLod(u_photos, vec3(uvl.xy, float(slot_of[i])), uvl.z).rgb;
+  } else {
+    vec4 co = photos[i].coarse;
+    c = textureLod(u_coarse, vec3(min(uvl.xy * co.xy, co.zw), float(i)), uvl.z + photos[i].size.w)
+            .rgb;
+  }
   hat = vec3(1.0);
   if (u_encoding == 1) {
     vec3 z = clamp(c * 255.0, 0.0, 255.0);

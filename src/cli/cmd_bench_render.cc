@@ -1,8 +1,9 @@
 // `hdribr bench render`: frame time of the renderer split into depth pass and blend pass, per
-// output size, photo count, K best and candidate cap, on a generated scene (points + synthetic
-// photos).
+// output size, photo count, K best, candidate cap and GPU memory budget, on a generated scene
+// (points + synthetic photos).
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "cli/bench_cloud.h"
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -33,8 +35,26 @@ struct BenchRenderOptions {
   long long points = 1000000;
   std::string photo_size = "640x480";
   int frames = 2;
+  // GPU memory budgets, MiB (0 = the device's: every photo resident on a large GPU).
+  std::string gpu_memory = "0";
   std::string json;
 };
+
+std::vector<double> ParseBudgets(const std::string& s) {
+  std::vector<double> out;
+  for (const auto& item : SplitList(s)) {
+    try {
+      size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (used != item.size() || !(v >= 0)) throw std::invalid_argument("");
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw UsageError("--gpu-memory: bad value '" + item + "'");
+    }
+  }
+  if (out.empty()) throw UsageError("--gpu-memory: empty list");
+  return out;
+}
 
 std::vector<int> ParseInts(const std::string& s, const char* what, int min) {
   std::vector<int> out;
@@ -90,6 +110,7 @@ int Run(const BenchRenderOptions& opt) {
   const std::vector<int> photo_counts = ParseInts(opt.photos, "--photos", 1);
   const std::vector<int> ks = ParseInts(opt.k_best, "--k-best", 0);
   const std::vector<int> caps = ParseInts(opt.candidates, "--candidates", 0);
+  const std::vector<double> budgets = ParseBudgets(opt.gpu_memory);
   const cv::Size photo_size = ParseSize(opt.photo_size, "--photo-size");
   const int pw = photo_size.width, ph = photo_size.height;
 
@@ -99,80 +120,103 @@ int Run(const BenchRenderOptions& opt) {
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
   FILE* table = TableStream(opt.json);
-  std::fprintf(table, "%-10s %6s %5s %5s %5s %7s %10s %10s %10s %10s %8s %8s\n", "size", "photos",
-               "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "total_ms", "wall_ms",
-               "valid%", "psnr_all");
+  std::fprintf(table, "%-10s %6s %5s %5s %5s %7s %10s %10s %10s %10s %10s %8s %8s %15s\n", "size",
+               "photos", "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "total_ms",
+               "first_ms", "wall_ms", "valid%", "psnr_all", "resident/MiB");
   for (int count : photo_counts) {
-    std::vector<cv::Mat> images;
-    const Scene scene = MakeScene(count, pw, ph, cloud, images);
-    render::RendererOptions ro;
-    ro.photo_images = std::move(images);
-    const auto s0 = std::chrono::steady_clock::now();
-    render::Renderer renderer(shaders, scene, ro);
-    const double setup_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
-    for (const auto& [w, h] : sizes) {
-      const double f = 0.5 * w / std::tan(M_PI / 6.0);
-      const Camera cam = Camera::Pinhole(1, w, h, f, f, 0.5 * w, 0.5 * h);
-      render::RenderTarget target = render::RenderTarget::Create(w, h);
-      for (int k : ks) {
-        renderer.blend_options().k_best = k >= count ? 0 : k;
-        cv::Mat all_photos;  // this K's render from every photo (cap 0), when measured first
-        for (int cap : caps) {
-          renderer.SetMaxCandidates(cap);
-          renderer.Render(cam, cam_from_world, target);  // warm-up
-          double depth_ms = 0, blend_ms = 0, select_ms = 0, used = 0;
-          const auto t0 = std::chrono::steady_clock::now();
-          for (int i = 0; i < opt.frames; ++i) {
+    for (double budget : budgets) {
+      std::vector<cv::Mat> images;
+      const Scene scene = MakeScene(count, pw, ph, cloud, images);
+      render::RendererOptions ro;
+      ro.photo_images = std::move(images);
+      ro.gpu_memory_mb = budget;
+      // The cache's plan sizes its slots for the largest cap (0 = every photo).
+      ro.max_candidates = *std::max_element(caps.begin(), caps.end());
+      if (std::find(caps.begin(), caps.end(), 0) != caps.end()) ro.max_candidates = 0;
+      const auto s0 = std::chrono::steady_clock::now();
+      render::Renderer renderer(shaders, scene, ro);
+      const double setup_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+      for (const auto& [w, h] : sizes) {
+        const double f = 0.5 * w / std::tan(M_PI / 6.0);
+        const Camera cam = Camera::Pinhole(1, w, h, f, f, 0.5 * w, 0.5 * h);
+        render::RenderTarget target = render::RenderTarget::Create(w, h);
+        for (int k : ks) {
+          renderer.blend_options().k_best = k >= count ? 0 : k;
+          cv::Mat all_photos;  // this K's render from every photo (cap 0), when measured first
+          for (int cap : caps) {
+            renderer.SetMaxCandidates(cap);
+            // The first frame (with a cache: waiting for its candidates' loads), then warm ones.
+            const auto f0 = std::chrono::steady_clock::now();
             renderer.Render(cam, cam_from_world, target);
-            depth_ms += renderer.last_times().depth_ms / opt.frames;
-            blend_ms += renderer.last_times().blend_ms / opt.frames;
-            select_ms += renderer.last_candidates().select_ms / opt.frames;
-            used += static_cast<double>(renderer.last_candidates().photos.size()) / opt.frames;
+            glFinish();
+            const double first_ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f0)
+                    .count();
+            double depth_ms = 0, blend_ms = 0, select_ms = 0, used = 0;
+            const auto t0 = std::chrono::steady_clock::now();
+            for (int i = 0; i < opt.frames; ++i) {
+              renderer.Render(cam, cam_from_world, target);
+              depth_ms += renderer.last_times().depth_ms / opt.frames;
+              blend_ms += renderer.last_times().blend_ms / opt.frames;
+              select_ms += renderer.last_candidates().select_ms / opt.frames;
+              used += static_cast<double>(renderer.last_candidates().photos.size()) / opt.frames;
+            }
+            const double wall_ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count() /
+                opt.frames;
+            const render::RenderImages im = render::Renderer::Read(target);
+            const double valid = 100.0 * cv::countNonZero(im.valid) / (w * h);
+            const double mean_count =
+                cv::countNonZero(im.valid) ? cv::mean(im.count, im.valid)[0] : 0;
+            // PSNR (8-bit scale, every pixel) against the render from every photo.
+            double psnr_all = -1;
+            if (cap == 0) {
+              all_photos = im.color.clone();
+            } else if (!all_photos.empty()) {
+              psnr_all = cv::PSNR(im.color * 255.0, all_photos * 255.0, 255.0);
+            }
+            char size_text[32], psnr_text[32] = "-";
+            std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
+            if (psnr_all >= 0) std::snprintf(psnr_text, sizeof(psnr_text), "%.2f", psnr_all);
+            const render::PhotoResidency res = renderer.residency();
+            char resident_text[48];
+            std::snprintf(resident_text, sizeof(resident_text), "%.1f/%.1f",
+                          res.resident_bytes / 1048576.0, res.total_bytes / 1048576.0);
+            std::fprintf(
+                table,
+                "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %10.1f %10.1f %10.1f %8.1f %8s %15s\n",
+                size_text, count, k == 0 || k >= count ? "all" : std::to_string(k).c_str(),
+                cap == 0 ? "all" : std::to_string(cap).c_str(), used, select_ms, depth_ms, blend_ms,
+                depth_ms + blend_ms, first_ms, wall_ms, valid, psnr_text, resident_text);
+            std::fflush(table);
+            results.push_back(
+                {{"width", w},
+                 {"height", h},
+                 {"photos", count},
+                 {"k_best", k >= count ? 0 : k},
+                 {"max_candidates", cap},
+                 {"candidates_per_frame", used},
+                 {"candidates_ms", select_ms},
+                 {"points", opt.points},
+                 {"photo_size", opt.photo_size},
+                 {"frames", opt.frames},
+                 {"depth_ms", depth_ms},
+                 {"blend_ms", blend_ms},
+                 {"wall_ms", wall_ms},
+                 {"valid_percent", valid},
+                 {"mean_photos_per_pixel", mean_count},
+                 {"psnr_vs_all_photos", psnr_all < 0 ? nlohmann::json() : nlohmann::json(psnr_all)},
+                 {"setup_s", setup_s},
+                 {"first_frame_ms", first_ms},
+                 {"gpu_memory_mb", budget},
+                 {"cached", res.cached},
+                 {"resident_mib", res.resident_bytes / 1048576.0},
+                 {"total_mib", res.total_bytes / 1048576.0},
+                 {"full_size_slots", res.slots},
+                 {"gpu_bytes", res.resident_bytes}});
           }
-          const double wall_ms =
-              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                  .count() /
-              opt.frames;
-          const render::RenderImages im = render::Renderer::Read(target);
-          const double valid = 100.0 * cv::countNonZero(im.valid) / (w * h);
-          const double mean_count =
-              cv::countNonZero(im.valid) ? cv::mean(im.count, im.valid)[0] : 0;
-          // PSNR (8-bit scale, every pixel) against the render from every photo.
-          double psnr_all = -1;
-          if (cap == 0) {
-            all_photos = im.color.clone();
-          } else if (!all_photos.empty()) {
-            psnr_all = cv::PSNR(im.color * 255.0, all_photos * 255.0, 255.0);
-          }
-          char size_text[32], psnr_text[32] = "-";
-          std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
-          if (psnr_all >= 0) std::snprintf(psnr_text, sizeof(psnr_text), "%.2f", psnr_all);
-          std::fprintf(table,
-                       "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %10.1f %10.1f %8.1f %8s\n",
-                       size_text, count, k == 0 || k >= count ? "all" : std::to_string(k).c_str(),
-                       cap == 0 ? "all" : std::to_string(cap).c_str(), used, select_ms, depth_ms,
-                       blend_ms, depth_ms + blend_ms, wall_ms, valid, psnr_text);
-          std::fflush(table);
-          results.push_back(
-              {{"width", w},
-               {"height", h},
-               {"photos", count},
-               {"k_best", k >= count ? 0 : k},
-               {"max_candidates", cap},
-               {"candidates_per_frame", used},
-               {"candidates_ms", select_ms},
-               {"points", opt.points},
-               {"photo_size", opt.photo_size},
-               {"frames", opt.frames},
-               {"depth_ms", depth_ms},
-               {"blend_ms", blend_ms},
-               {"wall_ms", wall_ms},
-               {"valid_percent", valid},
-               {"mean_photos_per_pixel", mean_count},
-               {"psnr_vs_all_photos", psnr_all < 0 ? nlohmann::json() : nlohmann::json(psnr_all)},
-               {"setup_s", setup_s},
-               {"gpu_bytes", renderer.gpu_bytes()}});
         }
       }
     }
@@ -208,8 +252,12 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
       ->default_val(opt->photo_size);
   sub.add_option("--frames", opt->frames, "Timed frames per configuration")
       ->default_val(opt->frames);
+  sub.add_option("--gpu-memory", opt->gpu_memory,
+                 "GPU memory budgets, MiB, comma-separated (0 = the device's; a budget below the "
+                 "photos' size caches them)")
+      ->default_val(opt->gpu_memory);
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
-  return [opt] { return Run(*opt); };
+  return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };
 }
 
 }  // namespace hdribr::cli

@@ -141,7 +141,7 @@ CommandRunner SetupEval(CLI::App& sub) {
     if (loo->count() == 0 && gt->count() == 0) {
       throw UsageError("eval: give --leave-one-out, --gt CAPTURE_DIR or --cameras GT_MODEL");
     }
-    return Run(*opt);
+    return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); });
   };
 }
 

@@ -45,6 +45,7 @@ struct HdrOptions {
   double scale = 1.0;
   bool no_aligned = false;
   int max_photo_size = 0;
+  double gpu_memory_mb = 0;
   render::Background background = render::BlendOptions{}.background;
   bool no_depth_cache = false;
   std::string truth;  // a synthetic capture: report errors against its ground truth
@@ -140,6 +141,7 @@ int Run(const HdrOptions& opt) {
   options.scale = opt.scale;
   options.export_aligned = !opt.no_aligned;
   options.renderer.max_photo_size = opt.max_photo_size;
+  options.renderer.gpu_memory_mb = opt.gpu_memory_mb;
   options.renderer.blend.background = opt.background;
   options.renderer.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
   options.progress = [](int i, int n) { spdlog::info("rendered reference view {}/{}", i, n); };
@@ -197,6 +199,7 @@ CommandRunner SetupHdr(CLI::App& sub) {
       ->capture_default_str();
   sub.add_flag("--no-aligned", opt->no_aligned, "Do not export the aligned LDR renders");
   AddMaxPhotoSizeOption(sub, opt->max_photo_size);
+  AddGpuMemoryOption(sub, opt->gpu_memory_mb);
   AddBackgroundOption(sub, opt->background);
   AddNoDepthCacheOption(sub, opt->no_depth_cache);
   sub.add_option("--truth", opt->truth,
@@ -204,7 +207,7 @@ CommandRunner SetupHdr(CLI::App& sub) {
                  "its ground truth");
   return [opt] {
     opt->workspace = WorkspaceOrPhotos(opt->workspace).string();
-    return Run(*opt);
+    return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); });
   };
 }
 

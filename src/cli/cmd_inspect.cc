@@ -21,8 +21,9 @@ namespace {
 struct InspectOptions {
   std::string workspace;
   bool json = false;
-  bool gpu = false;        // --gpu: GPU memory the renderer needs
-  int max_photo_size = 0;  // with --gpu
+  bool gpu = false;          // --gpu: GPU memory the renderer needs
+  int max_photo_size = 0;    // with --gpu
+  double gpu_memory_mb = 0;  // with --gpu
 };
 
 std::string FormatExposure(const Exposure& e) {
@@ -59,14 +60,19 @@ std::string Attributes(const PointCloud& pc) {
 nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 // --gpu: builds the renderer (photos + per-photo depth maps on the GPU) and reports its memory.
-nlohmann::json GpuReport(const Scene& scene, int max_photo_size) {
+nlohmann::json GpuReport(const Scene& scene, int max_photo_size, double gpu_memory_mb) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   render::RendererOptions ro;
   ro.max_photo_size = max_photo_size;
+  ro.gpu_memory_mb = gpu_memory_mb;
   const render::Renderer renderer(shaders, scene, ro);
-  return {{"gpu_bytes", renderer.gpu_bytes()},
-          {"max_photo_size", max_photo_size},
+  const render::PhotoResidency r = renderer.residency();
+  return {{"gpu_bytes", r.resident_bytes}, {"resident_bytes", r.resident_bytes},
+          {"total_bytes", r.total_bytes},  {"budget_bytes", r.budget_bytes},
+          {"depth_bytes", r.depth_bytes},  {"cached", r.cached},
+          {"full_size_slots", r.slots},    {"fallback_divisor", r.fallback_divisor},
+          {"depth_slots", r.depth_slots},  {"max_photo_size", max_photo_size},
           {"renderer", context.Renderer()}};
 }
 
@@ -75,7 +81,9 @@ int Run(const InspectOptions& opt) {
   const Scene scene = LoadWorkspace(opt.workspace);
   const std::vector<std::string> problems = ValidateScene(scene);
   nlohmann::json gpu;
-  if (opt.gpu && problems.empty()) gpu = GpuReport(scene, opt.max_photo_size);
+  if (opt.gpu && problems.empty()) {
+    gpu = GpuReport(scene, opt.max_photo_size, opt.gpu_memory_mb);
+  }
 
   if (opt.json) {
     nlohmann::json j;
@@ -139,10 +147,24 @@ int Run(const InspectOptions& opt) {
         "thresholds)\n",
         scene.scene_scale);
     if (!gpu.is_null()) {
-      std::printf("gpu memory   %.1f MiB (photo textures + depth maps, max photo size %s; %s)\n",
-                  gpu["gpu_bytes"].get<size_t>() / 1048576.0,
-                  opt.max_photo_size > 0 ? std::to_string(opt.max_photo_size).c_str() : "full",
-                  gpu["renderer"].get<std::string>().c_str());
+      std::printf(
+          "gpu memory   %.2f MiB resident of %.2f MiB (photo textures + depth maps, the depth maps "
+          "%.2f MiB; max "
+          "photo size %s; budget %.2f MiB; %s)\n",
+          gpu["resident_bytes"].get<size_t>() / 1048576.0,
+          gpu["total_bytes"].get<size_t>() / 1048576.0,
+          gpu["depth_bytes"].get<size_t>() / 1048576.0,
+          opt.max_photo_size > 0 ? std::to_string(opt.max_photo_size).c_str() : "full",
+          gpu["budget_bytes"].get<size_t>() / 1048576.0,
+          gpu["renderer"].get<std::string>().c_str());
+      if (gpu["cached"].get<bool>()) {
+        const int depth_slots = gpu["depth_slots"].get<int>();
+        const std::string depth =
+            depth_slots > 0 ? std::to_string(depth_slots) + " slots" : "all resident";
+        std::printf("photo cache  %d full-size slots, coarse copies at 1/%d size, depth maps %s\n",
+                    gpu["full_size_slots"].get<int>(), gpu["fallback_divisor"].get<int>(),
+                    depth.c_str());
+      }
     }
     std::printf("problems     %zu\n", problems.size());
   }
@@ -161,7 +183,8 @@ CommandRunner SetupInspect(CLI::App& sub) {
   sub.add_flag("--json", opt->json, "Print JSON instead of text");
   sub.add_flag("--gpu", opt->gpu, "Also load the photos on the GPU and report the memory used");
   AddMaxPhotoSizeOption(sub, opt->max_photo_size);
-  return [opt] { return Run(*opt); };
+  AddGpuMemoryOption(sub, opt->gpu_memory_mb);
+  return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };
 }
 
 }  // namespace hdribr::cli

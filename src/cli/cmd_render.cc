@@ -443,7 +443,7 @@ CommandRunner SetupRender(CLI::App& sub) {
       }
     }
     opt->renderer.depth_cache_dir = WorkspaceDepthCache(opt->workspace, opt->no_depth_cache);
-    return Run(*opt);
+    return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); });
   };
 }
 

@@ -1,6 +1,8 @@
 #include "cli/render_options.h"
 
 #include <climits>
+#include <cstdio>
+#include <string>
 
 #include "cli/cli_util.h"
 #include "core/error.h"
@@ -83,16 +85,36 @@ CLI::Option* AddCandidatesOption(CLI::App& app, int& max_candidates) {
       ->check(kAtLeastZero);
 }
 
+CLI::Option* AddGpuMemoryOption(CLI::App& app, double& mb) {
+  char default_mb[32];
+  std::snprintf(default_mb, sizeof(default_mb), "%.0f", render::kDefaultGpuMemoryMb);
+  return app
+      .add_option("--gpu-memory", mb,
+                  "GPU memory budget of the photos and their depth maps, MiB: beyond it the "
+                  "photos are cached (coarse copies of all, the view's candidates at full "
+                  "size); 0 = three quarters of the free video memory the driver reports, else " +
+                      std::string(default_mb))
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+}
+
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache) {
   AddDepthModeOption(app, options.depth.mode);
   AddBlendOptions(app, options.blend);
   AddMaxPhotoSizeOption(app, options.max_photo_size);
   AddCandidatesOption(app, options.max_candidates);
+  AddGpuMemoryOption(app, options.gpu_memory_mb);
   AddNoDepthCacheOption(app, no_depth_cache);
 }
 
 std::filesystem::path WorkspaceDepthCache(const std::filesystem::path& workspace, bool off) {
   return off ? std::filesystem::path() : DepthMapCacheDir(workspace);
+}
+
+const FlagNames& RendererFlags() {
+  static const FlagNames flags = {{"gpu_memory_mb", "--gpu-memory"},
+                                  {"max_candidates", "--candidates"}};
+  return flags;
 }
 
 void CheckBlendOptions(const render::BlendOptions& blend) {

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli/cli_util.h"
 #include "render/blend_options.h"
 #include "render/depth_pass.h"
 #include "render/renderer.h"
@@ -32,12 +33,19 @@ CLI::Option* AddMaxPhotoSizeOption(CLI::App& app, int& max_photo_size);
 CLI::Option* AddNoDepthCacheOption(CLI::App& app, bool& off);
 // --candidates N into `max_candidates` (0 = every active photo).
 CLI::Option* AddCandidatesOption(CLI::App& app, int& max_candidates);
-// The four above on `options` (depth mode, blend options, photo size, candidates) and
+// --gpu-memory MB into `mb` (0 = from the device; render/photo_cache.h).
+CLI::Option* AddGpuMemoryOption(CLI::App& app, double& mb);
+// The five above on `options` (depth mode, blend options, photo size, candidates, GPU memory)
+// and
 // --no-depth-cache into `no_depth_cache` (for WorkspaceDepthCache once the workspace is known).
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache);
 // The renderer's depth_cache_dir for `workspace`: its cache folder (DepthMapCacheDir), or
 // none when `off` (--no-depth-cache).
 std::filesystem::path WorkspaceDepthCache(const std::filesystem::path& workspace, bool off);
+
+// Field -> flag of the renderer options that the renderer itself checks (its OptionError), for
+// RunNamingFlags around a command that builds a renderer.
+const FlagNames& RendererFlags();
 
 // Throws UsageError naming the flag of the first blend option that no blend can use
 // (render::BlendOptionProblems); call before any work.

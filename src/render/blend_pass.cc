@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.h"
 
@@ -16,8 +17,9 @@ struct PhotoGpu {
   float size[4];
   float tex[4];
   float dmap[4];
+  float coarse[4];
 };
-static_assert(sizeof(PhotoGpu) == 36 * 4);
+static_assert(sizeof(PhotoGpu) == 40 * 4);
 
 }  // namespace
 
@@ -54,6 +56,16 @@ const gl::Program& BlendPass::ProgramFor(int keep) const {
 
 void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
                           const PhotoDepthMaps& depth_maps) {
+  SetPhotos(scene, textures.layout(), textures.id(), depth_maps, nullptr);
+}
+
+void BlendPass::SetPhotos(const Scene& scene, const PhotoCache& cache,
+                          const PhotoDepthMaps& depth_maps) {
+  SetPhotos(scene, cache.layout(), cache.slots_texture(), depth_maps, &cache);
+}
+
+void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuint texture,
+                          const PhotoDepthMaps& depth_maps, const PhotoCache* cache) {
   std::vector<PhotoGpu> gpu(std::max<size_t>(1, scene.photos.size()));
   for (size_t i = 0; i < scene.photos.size(); ++i) {
     const Photo& photo = scene.photos[i];
@@ -71,15 +83,30 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
     g.center[1] = static_cast<float>(c.y());
     g.center[2] = static_cast<float>(c.z());
     g.center[3] = relative > 0 ? static_cast<float>(1.0 / relative) : 1.0f;
-    const cv::Size ts = textures.layer_size(static_cast<int>(i));
+    const cv::Size ts = textures.sizes[i];
     const double texels_per_px = static_cast<double>(ts.width) / cam.width;
     g.size[0] = static_cast<float>(cam.width);
     g.size[1] = static_cast<float>(cam.height);
     g.size[2] = static_cast<float>(texels_per_px);
-    g.tex[0] = static_cast<float>(static_cast<double>(ts.width) / cam.width / textures.width());
-    g.tex[1] = static_cast<float>(static_cast<double>(ts.height) / cam.height / textures.height());
-    g.tex[2] = static_cast<float>((ts.width - 0.5) / textures.width());
-    g.tex[3] = static_cast<float>((ts.height - 0.5) / textures.height());
+    g.tex[0] = static_cast<float>(static_cast<double>(ts.width) / cam.width / textures.width);
+    g.tex[1] = static_cast<float>(static_cast<double>(ts.height) / cam.height / textures.height);
+    g.tex[2] = static_cast<float>((ts.width - 0.5) / textures.width);
+    g.tex[3] = static_cast<float>((ts.height - 0.5) / textures.height);
+    if (cache) {
+      // The coarse copy: its texture coordinate per full-size one, its largest coordinate, and
+      // (size.w) the level of detail to add, log2 of its texels per full-size texel.
+      const PhotoLayout& f = cache->fallback_layout();
+      const cv::Size fs = f.sizes[i];
+      const double full_per_px = static_cast<double>(ts.width) / cam.width / textures.width;
+      const double coarse_per_px = static_cast<double>(fs.width) / cam.width / f.width;
+      const double full_per_py = static_cast<double>(ts.height) / cam.height / textures.height;
+      const double coarse_per_py = static_cast<double>(fs.height) / cam.height / f.height;
+      g.coarse[0] = static_cast<float>(coarse_per_px / full_per_px);
+      g.coarse[1] = static_cast<float>(coarse_per_py / full_per_py);
+      g.coarse[2] = static_cast<float>((fs.width - 0.5) / f.width);
+      g.coarse[3] = static_cast<float>((fs.height - 0.5) / f.height);
+      g.size[3] = static_cast<float>(std::log2(static_cast<double>(fs.width) / ts.width));
+    }
     const cv::Size ds = depth_maps.layer_size(static_cast<int>(i));
     g.dmap[0] = static_cast<float>(static_cast<double>(ds.width) / cam.width);
     g.dmap[1] = static_cast<float>(static_cast<double>(ds.height) / cam.height);
@@ -87,8 +114,10 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
     g.dmap[3] = static_cast<float>(ds.height);
   }
   photos_ = gl::Buffer(gpu.size() * sizeof(PhotoGpu), gpu.data());
-  photo_texture_ = textures.id();
-  depth_maps_ = depth_maps.depth().id();
+  photo_texture_ = texture;
+  cache_ = cache;
+  cached_depth_ = cache && cache->caches_depth();
+  depth_maps_ = cached_depth_ ? cache->depth_texture() : depth_maps.depth().id();
   photo_count_ = static_cast<int>(scene.photos.size());
   inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
   const Eigen::Vector4d sphere = BackgroundSphere(scene);
@@ -152,15 +181,21 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1i(p, 12, static_cast<int>(options.background));
   glProgramUniform4fv(p, 13, 1, sphere_);
   glProgramUniform1i(p, 14, static_cast<int>(options.visibility));
+  glProgramUniform1i(p, 15, cache_ ? 1 : 0);
+  glProgramUniform1i(p, 16, cached_depth_ ? 1 : 0);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, cache_ ? cache_->slot_map() : active_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3,
+                   cached_depth_ ? cache_->depth_slot_map() : active_.id());
   glBindTextureUnit(0, depth.depth.id());
   glBindTextureUnit(1, depth.normal.id());
   glBindTextureUnit(2, photo_texture_);
   glBindTextureUnit(3, depth_maps_);
   glBindTextureUnit(4, response ? response->id() : 0);
+  glBindTextureUnit(5, cache_ ? cache_->fallback_texture() : 0);
   glBindImageTexture(0, color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, aux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glDispatchCompute(static_cast<GLuint>((depth.width() + 7) / 8),

@@ -13,6 +13,7 @@
 #include "gl/shader_library.h"
 #include "render/blend_options.h"
 #include "render/depth_pass.h"
+#include "render/photo_cache.h"
 #include "render/photo_depth_maps.h"
 #include "render/photo_textures.h"
 
@@ -32,6 +33,9 @@ class BlendPass {
   // scene photo; `textures` and `depth_maps` hold layer i = scene.photos[i].
   void SetPhotos(const Scene& scene, const PhotoTextures& textures,
                  const PhotoDepthMaps& depth_maps);
+  // The same for photos in a cache (photo_cache.h): photo i is sampled from its slot when the
+  // cache's slot map gives one, else from its coarse copy. `cache` must outlive the pass.
+  void SetPhotos(const Scene& scene, const PhotoCache& cache, const PhotoDepthMaps& depth_maps);
   // Photos that may contribute (indices into scene.photos).
   void SetActive(const std::vector<int>& photo_indices);
   int active_count() const { return active_count_; }
@@ -44,6 +48,8 @@ class BlendPass {
                gl::Texture& aux) const;
 
  private:
+  void SetPhotos(const Scene& scene, const PhotoLayout& layout, GLuint texture,
+                 const PhotoDepthMaps& depth_maps, const PhotoCache* cache);
   // The program whose per-pixel list holds `keep` photos (KEEP in shaders/blend.comp), built
   // on first use.
   const gl::Program& ProgramFor(int keep) const;
@@ -54,6 +60,8 @@ class BlendPass {
   gl::Buffer active_;
   GLuint photo_texture_ = 0;
   GLuint depth_maps_ = 0;
+  const PhotoCache* cache_ = nullptr;  // null: photo_texture_ holds every photo
+  bool cached_depth_ = false;          // depth_maps_ holds the cache's depth slots
   int photo_count_ = 0;
   int active_count_ = 0;
   float inv_scene_scale_ = 1.0f;

@@ -74,6 +74,12 @@ void WarnUnwritableOnce(const fs::path& dir, const std::string& problem) {
 
 }  // namespace
 
+std::vector<cv::Mat> PhotoDepthMaps::TakeLayers() {
+  std::vector<cv::Mat> layers = ReadLayers(depth_, sizes_);
+  depth_ = gl::Texture();
+  return layers;
+}
+
 void PhotoDepthMaps::Allocate(const Scene& scene, double scale) {
   HDRIBR_CHECK(scale > 0.0);
   int max_w = 1, max_h = 1;

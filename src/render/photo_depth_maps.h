@@ -30,6 +30,9 @@ class PhotoDepthMaps {
   // Size of layer i's valid region in pixels.
   const cv::Size& layer_size(int i) const { return sizes_[static_cast<size_t>(i)]; }
   int count() const { return static_cast<int>(sizes_.size()); }
+  // Reads every layer back (CV_32FC1, layer_size(i)) and frees the GPU array (depth() is then
+  // empty; the sizes stay): for the photo cache, which uploads them on demand.
+  std::vector<cv::Mat> TakeLayers();
   // True when the depth maps were read from the cache rather than computed.
   bool from_cache() const { return from_cache_; }
 

@@ -4,6 +4,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -19,32 +20,61 @@ class MipmappedArray : public gl::Object<gl::TextureTraits> {
   MipmappedArray(GLenum internal_format, int width, int height, int layers, int levels);
 };
 
+// The sizes of the photos on the GPU and of the array that holds them, without their pixels.
+struct PhotoLayout {
+  std::vector<cv::Size> sizes;  // photo i after downscaling
+  int width = 1, height = 1;    // the array: the largest photo
+  int levels = 1;               // full mipmap chain of width x height
+  int limit = 0;                // longest side allowed (max_size and the GL limit)
+  bool is_float = false;        // RGBA16F (CV_32FC3 photos) instead of RGBA8
+
+  // Bytes of one layer with its mipmaps.
+  size_t LayerBytes() const;
+  // Bytes of the whole array (every photo) with its mipmaps.
+  size_t Bytes() const { return LayerBytes() * std::max<size_t>(1, sizes.size()); }
+};
+
+// Needs a current GL context (for GL_MAX_TEXTURE_SIZE). The layout of the scene's photos:
+// `images` (one per scene photo) when not empty, else the headers of the files; photos whose
+// longest side exceeds `max_size` (> 0) or the GL limit are downscaled. Throws InputError
+// naming the file when one cannot be read or is not its camera's shape.
+PhotoLayout MeasurePhotos(const Scene& scene, const std::vector<cv::Mat>& images, int max_size);
+
+// Photo i's pixels as uploaded (CV_8UC3 or CV_32FC3 BGR, continuous, layout.sizes[i]): taken
+// from `images` when not empty, else read from its file; downscaled (area filter). Throws
+// InputError naming the file. Needs no GL context (the cache's loader thread calls it).
+cv::Mat LoadPhotoPixels(const Scene& scene, const std::vector<cv::Mat>& images,
+                        const PhotoLayout& layout, size_t i);
+
+// Writes `img` into level 0 of `layer` of `texture` (top-left corner).
+void UploadLayer(GLuint texture, int layer, const cv::Mat& img);
+
 class PhotoTextures {
  public:
-  // Needs a current GL context. Uploads every photo: `images` (one per scene photo, CV_8UC3 or
-  // CV_32FC3 BGR) when not empty, else the files at scene.photos[i].image_path (InputError
-  // naming the file when one cannot be read). Photos whose longest side exceeds `max_size`
-  // (> 0) or the GL limit are downscaled (area filter). 8-bit photos go to RGBA8, float ones
-  // to RGBA16F; the array is sized to the largest photo, smaller ones fill the top-left corner.
+  // Needs a current GL context. Uploads every photo of `layout` (MeasurePhotos): `images` (one
+  // per scene photo, CV_8UC3 or CV_32FC3 BGR) when not empty, else the files at
+  // scene.photos[i].image_path (InputError naming the file when one cannot be read). 8-bit
+  // photos go to RGBA8, float ones to RGBA16F; the array is sized to the largest photo,
+  // smaller ones fill the top-left corner.
+  PhotoTextures(const Scene& scene, const std::vector<cv::Mat>& images, PhotoLayout layout);
+  // The same with the layout measured here.
   PhotoTextures(const Scene& scene, const std::vector<cv::Mat>& images, int max_size = 0);
 
   GLuint id() const { return texture_.id(); }
-  int width() const { return width_; }
-  int height() const { return height_; }
-  int layers() const { return static_cast<int>(sizes_.size()); }
-  int levels() const { return levels_; }
-  bool is_float() const { return is_float_; }
+  int width() const { return layout_.width; }
+  int height() const { return layout_.height; }
+  int layers() const { return static_cast<int>(layout_.sizes.size()); }
+  int levels() const { return layout_.levels; }
+  bool is_float() const { return layout_.is_float; }
+  const PhotoLayout& layout() const { return layout_; }
   // Size of photo i on the GPU (after downscaling).
-  const cv::Size& layer_size(int i) const { return sizes_[static_cast<size_t>(i)]; }
+  const cv::Size& layer_size(int i) const { return layout_.sizes[static_cast<size_t>(i)]; }
   // GPU memory of the array with its mipmaps, bytes.
-  size_t bytes() const { return bytes_; }
+  size_t bytes() const { return layout_.Bytes(); }
 
  private:
   MipmappedArray texture_;
-  std::vector<cv::Size> sizes_;
-  int width_ = 1, height_ = 1, levels_ = 1;
-  bool is_float_ = false;
-  size_t bytes_ = 0;
+  PhotoLayout layout_;
 };
 
 }  // namespace hdribr::render

@@ -30,8 +30,14 @@ struct Renderer::Impl {
   RendererOptions options;
   BlendPass blend;  // first: its shader fails fast, before the photos are loaded
   DepthPass depth_pass;
-  PhotoTextures textures;
+  PhotoLayout layout;  // the photos' sizes, measured before any upload
   PhotoDepthMaps depth_maps;
+  cv::Size depth_size;     // the depth maps' array
+  size_t depth_total = 0;  // every depth map, bytes
+  size_t budget = 0;
+  // Every photo at full size, or (beyond the budget) the cache.
+  std::optional<PhotoTextures> textures;
+  std::unique_ptr<PhotoCache> cache;
   gl::Texture response;  // 256 x 1 RGB32F g(Z), empty without a response curve
   std::vector<int> active;
   std::vector<int> uploaded;  // the blend pass's active list
@@ -63,14 +69,33 @@ struct Renderer::Impl {
         options(std::move(o)),
         blend(shaders),
         depth_pass(shaders, WithPoints(options.depth)),
-        textures(s, options.photo_images, options.max_photo_size),
-        depth_maps(MakeDepthMaps(s, depth_pass, options)) {
+        layout(MeasurePhotos(s, options.photo_images, options.max_photo_size)),
+        depth_maps(MakeDepthMaps(s, depth_pass, options)),
+        budget(GpuBudgetBytes(options.gpu_memory_mb)) {
+    options.photo_depths.clear();
+    options.photo_depths.shrink_to_fit();
+    depth_size = cv::Size(depth_maps.depth().width(), depth_maps.depth().height());
+    const size_t depth_layer = static_cast<size_t>(depth_size.area()) * 4;
+    depth_total = depth_layer * scene.photos.size();
+    const int per_frame =
+        options.blend.mode == BlendMode::kNearestPhoto ? 1 : options.max_candidates;
+    const std::optional<PhotoCachePlan> plan =
+        PlanPhotoCache(layout, depth_layer, per_frame, budget);
+    if (plan) {
+      // The cache keeps photos given in memory for its loads, and with depth slots every
+      // depth map on the CPU.
+      std::vector<cv::Mat> depth_layers;
+      if (plan->depth_slots > 0) depth_layers = depth_maps.TakeLayers();
+      cache = std::make_unique<PhotoCache>(scene, std::move(options.photo_images), layout, *plan,
+                                           std::move(depth_layers), depth_size);
+      blend.SetPhotos(scene, *cache, depth_maps);
+    } else {
+      textures.emplace(s, options.photo_images, layout);
+      blend.SetPhotos(scene, *textures, depth_maps);
+    }
     // The pixels were uploaded: do not keep a second copy of an HDR photo set in memory.
     options.photo_images.clear();
     options.photo_images.shrink_to_fit();
-    options.photo_depths.clear();
-    options.photo_depths.shrink_to_fit();
-    blend.SetPhotos(scene, textures, depth_maps);
     SetAll();
     if (options.response) response = MakeResponseLut(*options.response);
   }
@@ -121,16 +146,24 @@ void CheckMaxCandidates(int max_candidates) {
 Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, RendererOptions options) {
   ValidateBlendOptions(options.blend);  // before any upload
   CheckMaxCandidates(options.max_candidates);
+  CheckGpuMemoryMb(options.gpu_memory_mb);
   const auto t0 = std::chrono::steady_clock::now();
   impl_ = std::make_unique<Impl>(shaders, scene, std::move(options));
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const PhotoLayout& l = impl_->layout;
+  const PhotoResidency r = residency();
   spdlog::info(
       "renderer: {} photos ({}x{} array, {} levels, {}), {} points; GPU memory {:.1f} MiB "
       "(photos {:.1f}, depth maps {:.1f}); set up in {:.2f} s",
-      scene.photos.size(), impl_->textures.width(), impl_->textures.height(),
-      impl_->textures.levels(), impl_->textures.is_float() ? "RGBA16F" : "RGBA8",
-      scene.points.size(), gpu_bytes() / 1048576.0, impl_->textures.bytes() / 1048576.0,
-      (gpu_bytes() - impl_->textures.bytes()) / 1048576.0, s);
+      scene.photos.size(), l.width, l.height, l.levels, l.is_float ? "RGBA16F" : "RGBA8",
+      scene.points.size(), r.resident_bytes / 1048576.0,
+      (r.resident_bytes - r.depth_bytes) / 1048576.0, r.depth_bytes / 1048576.0, s);
+  if (r.cached) {
+    spdlog::info(
+        "renderer: the photos need {:.1f} MiB with their depth maps, over the budget of {:.1f} "
+        "MiB: photo cache of {} full-size slots and coarse copies at 1/{} size",
+        r.total_bytes / 1048576.0, r.budget_bytes / 1048576.0, r.slots, r.fallback_divisor);
+  }
 }
 
 Renderer::~Renderer() = default;
@@ -202,6 +235,7 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   } else {
     m.Upload(m.last.photos);
   }
+  if (m.cache) m.cache->Request(m.last.photos, m.options.wait_for_photos);
   // The older set is re-used: read it first if it is done (it is overwritten otherwise).
   m.newest = 1 - m.newest;
   Impl::Stamps& stamps = m.stamps[m.newest];
@@ -276,11 +310,27 @@ const RenderTimes& Renderer::polled_times() {
   return m.times;
 }
 
-size_t Renderer::gpu_bytes() const {
-  const gl::Texture& d = impl_->depth_maps.depth();
-  return impl_->textures.bytes() + static_cast<size_t>(d.width()) *
-                                       static_cast<size_t>(d.height()) *
-                                       static_cast<size_t>(d.layers()) * 4;
+size_t Renderer::gpu_bytes() const { return residency().resident_bytes; }
+
+PhotoResidency Renderer::residency() const {
+  const Impl& m = *impl_;
+  PhotoResidency r;
+  if (m.cache) {
+    r = m.cache->residency();  // its resident bytes count the depth maps it holds
+  } else {
+    r.photos = static_cast<int>(m.scene.photos.size());
+    r.full_size = r.photos;
+    r.slots = r.photos;
+    r.depth_bytes = m.depth_total;
+    r.resident_bytes = m.layout.Bytes() + m.depth_total;
+  }
+  r.budget_bytes = m.budget;
+  r.total_bytes = m.layout.Bytes() + m.depth_total;
+  return r;
+}
+
+void Renderer::SettleCache() {
+  if (impl_->cache) impl_->cache->Settle();
 }
 
 bool Renderer::depth_maps_from_cache() const { return impl_->depth_maps.from_cache(); }

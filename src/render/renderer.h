@@ -18,6 +18,7 @@
 #include "hdr/response_curve.h"
 #include "render/blend_options.h"
 #include "render/depth_pass.h"
+#include "render/photo_cache.h"
 
 namespace hdribr::render {
 
@@ -43,6 +44,15 @@ struct RendererOptions {
   // The photos' depth maps to use instead of the depth pass's (CV_32FC1 camera z, 0 = none,
   // one per scene photo in scene order): a perfect-depth reference; empty = the depth pass.
   std::vector<cv::Mat> photo_depths;
+  // GPU memory budget of the photo textures and depth maps, MiB (render/photo_cache.h): when
+  // everything fits, every photo stays resident; otherwise the photos go through a cache
+  // (coarse copies of all, full size for the frames' candidates). 0 = from the device
+  // (GpuBudgetBytes), kDefaultGpuMemoryMb where it reports nothing.
+  double gpu_memory_mb = 0;
+  // With a cache: each Render() waits until its candidate photos are resident at full size
+  // (offline renders, never coarse); false renders at once with the coarse copies of the
+  // photos still loading (interactive views).
+  bool wait_for_photos = true;
 };
 
 // The view's depth given instead of the depth pass's, both of the target's size.
@@ -122,8 +132,13 @@ class Renderer {
   // GPU times of the newest Render() whose queries are done, without waiting: in a render
   // loop, usually the previous frame's (Render() itself never waits on its queries).
   const RenderTimes& polled_times();
-  // GPU memory of the photo textures and depth maps, bytes.
+  // GPU memory of the photo textures and depth maps, bytes (resident_bytes of residency()).
   size_t gpu_bytes() const;
+  // What the photo textures and depth maps hold on the GPU, against the budget.
+  PhotoResidency residency() const;
+  // With a cache: waits for the photos loading and uploads them (the next Render() of the
+  // same view then blends them at full size); nothing otherwise.
+  void SettleCache();
   // True when the photos' depth maps were read from options.depth_cache_dir.
   bool depth_maps_from_cache() const;
 

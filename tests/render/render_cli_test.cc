@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cli_capture.h"
@@ -97,6 +98,43 @@ TEST_F(RenderCliTest, DebugMapsPathAndNearest) {
   EXPECT_FALSE(std::filesystem::exists(out / "frames" / "frame_0003.png"));
 }
 
+// A GPU memory budget of the depth maps and three quarters of the photos (two full-size slots
+// for two candidates): `inspect --gpu` reports the cache, and `render` waits for its photos, so
+// its PNG is the all-resident one.
+TEST_F(RenderCliTest, GpuMemoryBelowThePhotosRendersTheSamePng) {
+  const auto out = test::TempDir("render_cli_gpu_memory");
+  // The JSON on stdout, the log lines on stderr.
+  auto inspect = [&](const std::string& flags) {
+    const auto json = out / "inspect.json";
+    const auto r = test::RunCommand("(" + Exe() + " inspect " + Ws() + " --gpu --json" + flags +
+                                    " > " + json.string() + ")");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(json);
+    return nlohmann::json::parse(in)["gpu"];
+  };
+  const nlohmann::json all = inspect("");
+  EXPECT_FALSE(all["cached"].get<bool>());
+  const double depth = all["depth_bytes"].get<double>();
+  const double photos = all["total_bytes"].get<double>() - depth;
+  const std::string budget = std::to_string((depth + photos * 0.75) / 1048576.0);
+  const nlohmann::json cached = inspect(" --gpu-memory " + budget);
+  EXPECT_TRUE(cached["cached"].get<bool>());
+  EXPECT_LE(cached["resident_bytes"].get<double>(), cached["budget_bytes"].get<double>());
+  EXPECT_EQ(cached["total_bytes"], all["total_bytes"]);
+  EXPECT_EQ(cached["full_size_slots"].get<int>(), 2);
+
+  const std::string base =
+      Exe() + " render " + Ws() + " --camera s0_v01.jpg --exclude s0_v01.jpg --candidates 2 --out ";
+  auto r = test::RunCommand(base + (out / "all.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::RunCommand(base + (out / "cached.png").string() + " --gpu-memory " + budget);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("photo cache of"), std::string::npos) << r.output;
+  const cv::Mat a = ReadImage(out / "all.png"), b = ReadImage(out / "cached.png");
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+}
+
 TEST_F(RenderCliTest, BadInputAndLookingAway) {
   const auto out = test::TempDir("render_cli_bad");
   const std::string base = Exe() + " render " + Ws();
@@ -121,7 +159,8 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
                        (out / "x.png").string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
   for (const std::string bad : {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2",
-                                "--k-best 40 --weights paper", "--k-best 33", "--candidates -1"}) {
+                                "--k-best 40 --weights paper", "--k-best 33", "--candidates -1",
+                                "--gpu-memory -1", "--gpu-memory 0.001"}) {
     r = test::RunCommand(base + " --camera s0_v00.jpg " + bad + " --out " +
                          (out / "x.png").string());
     EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
