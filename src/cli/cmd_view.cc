@@ -97,7 +97,9 @@ CommandRunner SetupView(CLI::App& sub) {
     for (const auto& out : {opt->screenshot, opt->window_screenshot, opt->record}) {
       CheckOutsideInputs(opt->workspace, out);
     }
-    return RunNamingFlags({{"series", "--series"}}, [&] { return viewer::RunViewer(*opt); });
+    FlagNames flags = RendererFlags();
+    flags.emplace("series", "--series");
+    return RunNamingFlags(flags, [&] { return viewer::RunViewer(*opt); });
   };
 }
 

@@ -158,8 +158,7 @@ int ViewerApp::Run() {
   GLFWwindow* w = window_.window();
   const ImGuiScope imgui(w);
   DrawLoadingFrames();
-  renderer_ = std::make_unique<FrameRenderer>(
-      scene_, camera_, opt_.workspace, opt_.renderer.max_photo_size, opt_.renderer.depth_cache_dir);
+  renderer_ = std::make_unique<FrameRenderer>(scene_, camera_, opt_.workspace, opt_.renderer);
   double last = NowS(), fps_clock = last;
   int fps_frames = 0;
   paths_.Start(last);

@@ -47,18 +47,20 @@ void SaveWindow(const std::filesystem::path& png, int fb_width, int fb_height) {
 }
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Camera& camera,
-                             std::filesystem::path workspace, int max_photo_size,
-                             std::filesystem::path depth_cache_dir)
+                             std::filesystem::path workspace,
+                             const render::RendererOptions& options)
     : scene_(scene),
       camera_(camera),
       workspace_(std::move(workspace)),
-      max_photo_size_(max_photo_size),
-      depth_cache_dir_(std::move(depth_cache_dir)),
       median_exposure_(scene.MedianRelativeExposure()),
       tonemap_pass_(shaders_),
       false_colour_(shaders_),
       frustum_pass_(shaders_),
       point_pass_(shaders_) {
+  renderer_options_.max_photo_size = options.max_photo_size;
+  renderer_options_.depth_cache_dir = options.depth_cache_dir;
+  renderer_options_.gpu_memory_mb = options.gpu_memory_mb;
+  renderer_options_.wait_for_photos = false;
   frustum_pass_.SetLines(MakeFrustumLines(scene_, 0.15 * scene_.scene_scale));
   // The cloud's sRGB colours (BGR, 0..1); grey when it has none.
   const PointCloud& cloud = scene_.points;
@@ -86,9 +88,7 @@ void FrameRenderer::Load(ViewState& state) {
   if (reload) {
     hdr_.reset();
     ldr_.reset();
-    render::RendererOptions ro;
-    ro.max_photo_size = max_photo_size_;
-    ro.depth_cache_dir = depth_cache_dir_;
+    const render::RendererOptions& ro = renderer_options_;
     const auto t0 = Clock::now();
     std::printf("loading %zu photos, computing their depth maps (%s)...\n", scene_.photos.size(),
                 HdrSourceName(s.source).c_str());
@@ -202,6 +202,7 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
     stats_.active = c.active;
     stats_.candidates_ms = c.select_ms;
     stats_.scale = static_cast<double>(w) / width;
+    stats_.residency = r.residency();
     frustum_pass_.SetCandidates(c.photos);
     rendered_pose_ = pose;
     render_dirty_ = false;
@@ -217,6 +218,15 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
     display_dirty_ = false;
   }
   if (measured) schedule_.Record(level, frame_ms);
+  // A full-quality picture drawn while photos were still loading (from their coarse copies) is
+  // drawn again once they are resident.
+  if (level_ == ProgressiveSchedule::kFull && stats_.residency.pending > 0) {
+    const render::PhotoResidency now = BaseRenderer().residency();
+    if (now.pending == 0) {
+      schedule_.MarkStale();
+      stats_.residency = now;
+    }
+  }
 }
 
 // The current surface's radiance target (or its splats, or a false-colour map) into its display.

@@ -37,6 +37,7 @@ struct FrameStats {
   float last_la = 1;         // the L_a of the last tone map (radiance target units)
   double scale = 1;          // rendered size / window size of the picture on screen (per axis)
   double budget_ms = 0;      // frame-time budget while moving (0 = every frame full quality)
+  render::PhotoResidency residency;  // the photos' GPU memory after the last re-render
 };
 
 // Clears the window's framebuffer to the viewer's background (fb_* in pixels).
@@ -48,10 +49,11 @@ void SaveWindow(const std::filesystem::path& png, int fb_width, int fb_height);
 class FrameRenderer {
  public:
   // Needs a current GL 4.5 context; `scene` and `camera` (the view's intrinsics) must outlive
-  // it. max_photo_size: longest photo side on the GPU (0 = full size); depth_cache_dir: the
-  // renderers' cache of the photos' depth maps (empty = none).
+  // it. From `options`: max_photo_size, depth_cache_dir and gpu_memory_mb; photos beyond the
+  // budget are loaded without waiting (coarse copies meanwhile), and the full-quality picture
+  // is rendered again once they have arrived.
   FrameRenderer(const Scene& scene, const Camera& camera, std::filesystem::path workspace,
-                int max_photo_size, std::filesystem::path depth_cache_dir);
+                const render::RendererOptions& options);
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
@@ -107,8 +109,7 @@ class FrameRenderer {
   const Scene& scene_;
   const Camera& camera_;
   std::filesystem::path workspace_;
-  int max_photo_size_;
-  std::filesystem::path depth_cache_dir_;
+  render::RendererOptions renderer_options_;  // what the renderers are loaded with
   gl::ShaderLibrary shaders_;
   std::unique_ptr<render::Renderer> ldr_;
   std::unique_ptr<render::HdrRenderer> hdr_;

@@ -133,6 +133,15 @@ void DrawPanel(ViewState& state, const PanelInfo& info) {
   } else {
     ImGui::TextUnformatted("full quality");
   }
+  const render::PhotoResidency& gpu = stats.residency;
+  if (gpu.cached) {
+    ImGui::Text("GPU memory %.0f of %.0f MiB (budget %.0f): %d of %d photos at full size%s",
+                gpu.resident_bytes / 1048576.0, gpu.total_bytes / 1048576.0,
+                gpu.budget_bytes / 1048576.0, gpu.full_size, gpu.photos,
+                gpu.pending > 0 ? ", loading" : "");
+  } else {
+    ImGui::Text("GPU memory %.0f MiB, every photo resident", gpu.resident_bytes / 1048576.0);
+  }
   float budget = static_cast<float>(state.frame_budget_ms);
   if (ImGui::SliderFloat("frame budget (ms, 0 = off)", &budget, 0, 1000, "%.0f")) {
     state.frame_budget_ms = budget;

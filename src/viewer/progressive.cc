@@ -35,6 +35,10 @@ void ProgressiveSchedule::SetBudget(double budget_ms) {
   motion_level_ = -1;
 }
 
+void ProgressiveSchedule::MarkStale() {
+  if (shown_ == kFull) stale_ = true;
+}
+
 void ProgressiveSchedule::ResetCosts() {
   cost_ms_.fill(0);
   measured_at_.fill(0);
@@ -77,12 +81,17 @@ int ProgressiveSchedule::MotionLevel() const {
 }
 
 int ProgressiveSchedule::Next(bool changed, double now_s) {
+  if (stale_) {
+    stale_ = false;
+    if (!changed) return kFull;  // shown_ stays kFull
+  }
   if (budget_ms_ <= 0) {
     if (!changed && shown_ == kFull) return -1;
     shown_ = kFull;
     return kFull;
   }
   if (changed) {
+    stale_ = false;
     last_change_s_ = now_s;
     motion_level_ = Predicted(kFull) > 0 ? MotionLevel() : kFirstLevel;
     shown_ = motion_level_;

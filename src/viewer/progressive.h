@@ -45,6 +45,9 @@ class ProgressiveSchedule {
   double Predicted(int level) const;
   // The level of the picture on screen (-1 before the first).
   int shown() const { return shown_; }
+  // The full-quality picture on screen is out of date (what it was rendered from has improved
+  // since): the next call renders it again at full quality, without waiting for stillness.
+  void MarkStale();
   // Forgets the measured costs (the window size or the settings changed the cost of a frame).
   void ResetCosts();
 
@@ -56,6 +59,7 @@ class ProgressiveSchedule {
   std::array<long, kScales.size()> measured_at_{};  // records_ at each level's last measurement
   long records_ = 0;
   int shown_ = -1;
+  bool stale_ = false;     // MarkStale: the full-quality picture is to be rendered again
   int motion_level_ = -1;  // the last reduced level chosen (hysteresis)
   double last_change_s_ = -1e30;
 };
