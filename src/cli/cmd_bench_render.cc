@@ -16,6 +16,7 @@
 #include "cli/bench_cloud.h"
 #include "cli/cli_util.h"
 #include "cli/command.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -33,6 +34,7 @@ struct BenchRenderOptions {
   long long points = 1000000;
   std::string photo_size = "640x480";
   int frames = 2;
+  int silhouette_trim = render::DepthPassOptions{}.silhouette_trim;
   std::string json;
 };
 
@@ -107,6 +109,7 @@ int Run(const BenchRenderOptions& opt) {
     const Scene scene = MakeScene(count, pw, ph, cloud, images);
     render::RendererOptions ro;
     ro.photo_images = std::move(images);
+    ro.depth.silhouette_trim = opt.silhouette_trim;
     const auto s0 = std::chrono::steady_clock::now();
     render::Renderer renderer(shaders, scene, ro);
     const double setup_s =
@@ -208,6 +211,7 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
       ->default_val(opt->photo_size);
   sub.add_option("--frames", opt->frames, "Timed frames per configuration")
       ->default_val(opt->frames);
+  AddSilhouetteTrimOption(sub, opt->silhouette_trim);
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
   return [opt] { return Run(*opt); };
 }
