@@ -7,7 +7,8 @@
 //                      the foreground's holes, the step-1 splat depth (and a view-facing
 //                      normal: step 1 writes no normal in this mode) as a last resort. MODE 2
 //                      writes the foreground, or the last resort at the foreground's holes,
-//                      which it appends to a list for MODE 3.
+//                      which it appends to a list for MODE 3. With u_trim_radius > 0 it
+//                      first trims the front splats' overhang past silhouettes (TrimOverhang).
 //  MODE 3 (lechelek holes): one invocation per listed pixel (an indirect dispatch sized by
 //                      MODE 2): the background's level-0 texel, else its last push (level 1
 //                      to 0, u_push_back; the pyramid is pushed only down to level 1); where
@@ -26,6 +27,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #ifndef MODE
 #define MODE 2
 #endif
+#if MODE == 2
+#include "classify.glsl"
+#endif
 
 layout(binding = 0) uniform usampler2D u_splat_depth;  // splat_depth.glsl
 layout(binding = 1) uniform sampler2D u_splat_normal;  // w = coverage (plain only)
@@ -36,6 +40,7 @@ layout(binding = 5) uniform sampler2D u_back_b;
 layout(binding = 6) uniform sampler2D u_back1_a;  // level 1 of the background pyramid
 layout(binding = 7) uniform sampler2D u_back1_b;
 layout(location = 7) uniform int u_push_back;     // 1: level 0 of u_back_* is not pushed yet
+layout(location = 8) uniform int u_trim_radius;   // MODE 2: silhouette trim window, 0 = off
 
 layout(binding = 0, r32f) writeonly uniform image2D u_out_depth;
 layout(binding = 1, rgba16f) writeonly uniform image2D u_out_normal;
@@ -110,6 +115,60 @@ float PinholeDepth(ivec2 p) {
   }
   return missing <= 1 ? nearest : 0.0;
 }
+
+// Silhouette trim. A foreground pixel that no front point centre holds (its texel was pushed)
+// may lie in the overhang of the front splats past a silhouette: the step-1 splats and the
+// pushed foreground reach a splat radius past the last sample, and the points of the farther
+// surface under that band were classified back. The true silhouette lies between the last
+// samples of the two visible surfaces: the pixel is given to the farther surface when, among
+// the front point centres within u_trim_radius pixels, the nearest lies on a farther surface
+// (deeper than the pixel's foreground depth z by the tolerance of step 2) rather than on the
+// pixel's own, step 1 shows that farther surface at its centre, and step 1 does not show the
+// pixel's own surface again u_trim_radius pixels past it (which marks a gap between the
+// splats of one surface, not its edge). Returns that farther centre's texel (whose tangent
+// plane gives the pixel's depth), or an invalid texel.
+Texel TrimOverhang(ivec2 p, float z) {
+  vec2 px = vec2(p) + 0.5;
+  float own = 1e30, other = 1e30;
+  vec2 towards = vec2(0.0);
+  Texel far_texel;
+  far_texel.a = vec4(0.0);
+  far_texel.b = vec4(0.0);
+  ivec2 lo = max(p - u_trim_radius, ivec2(0));
+  ivec2 hi = min(p + u_trim_radius, ivec2(u_size) - 1);
+  for (int y = lo.y; y <= hi.y; ++y) {
+    for (int x = lo.x; x <= hi.x; ++x) {
+      Texel t;
+      t.b = texelFetch(u_front_b, ivec2(x, y), 0);
+      if (t.b.w < 0.5) continue;  // empty or pushed: no point centre here
+      t.a = texelFetch(u_front_a, ivec2(x, y), 0);
+      vec2 d = PixelFromCam(t.a.xyz) - px;
+      float d2 = dot(d, d);
+      if (!IsFront(t.a.z, DepthHalfWidth(t), z)) {
+        if (d2 < other) {
+          other = d2;
+          towards = d;
+          far_texel = t;
+        }
+      } else if (t.a.z >= z - u_front_radii * DepthHalfWidth(t) - u_front_rel * z) {
+        own = min(own, d2);
+      }
+    }
+  }
+  bool trim = other < own;
+  if (trim) {
+    vec2 c = px + towards;
+    float z_c = DecodeSplatDepth(texelFetch(u_splat_depth, ivec2(c), 0).r);
+    ivec2 q = ivec2(floor(c + normalize(towards) * float(u_trim_radius)));
+    float z_q = all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(u_size)))
+                    ? DecodeSplatDepth(texelFetch(u_splat_depth, q, 0).r)
+                    : 0.0;
+    float r = DepthHalfWidth(far_texel);
+    trim = z_c > 0.0 && !IsFront(z_c, r, z) && (z_q <= 0.0 || !IsFront(z_q, r, z));
+  }
+  if (!trim) far_texel.b = vec4(0.0);
+  return far_texel;
+}
 #endif
 
 void main() {
@@ -141,6 +200,13 @@ void main() {
     if (Valid(front)) {
       depth = TexelDepth(front, px);
       normal = front.b.xyz;
+      if (u_trim_radius > 0 && front.b.w < 0.5) {
+        Texel far_texel = TrimOverhang(p, depth);
+        if (Valid(far_texel)) {
+          depth = TexelDepth(far_texel, px);
+          normal = far_texel.b.xyz;
+        }
+      }
     } else {
       uint k = atomicAdd(h_count, 1u);
       if (k % kHoleGroupSize == 0u && k / kHoleGroupSize < kMaxGroups) {

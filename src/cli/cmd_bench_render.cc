@@ -37,6 +37,7 @@ struct BenchRenderOptions {
   int frames = 2;
   // GPU memory budgets, MiB (0 = the device's: every photo resident on a large GPU).
   std::string gpu_memory = "0";
+  int silhouette_trim = render::DepthPassOptions{}.silhouette_trim;
   std::string json;
 };
 
@@ -130,6 +131,7 @@ int Run(const BenchRenderOptions& opt) {
       render::RendererOptions ro;
       ro.photo_images = std::move(images);
       ro.gpu_memory_mb = budget;
+      ro.depth.silhouette_trim = opt.silhouette_trim;
       // The cache's plan sizes its slots for the largest cap (0 = every photo).
       ro.max_candidates = *std::max_element(caps.begin(), caps.end());
       if (std::find(caps.begin(), caps.end(), 0) != caps.end()) ro.max_candidates = 0;
@@ -256,6 +258,7 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
                  "GPU memory budgets, MiB, comma-separated (0 = the device's; a budget below the "
                  "photos' size caches them)")
       ->default_val(opt->gpu_memory);
+  AddSilhouetteTrimOption(sub, opt->silhouette_trim);
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
   return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };
 }

@@ -118,6 +118,7 @@ CommandRunner SetupDepth(CLI::App& sub) {
   photo->excludes(camera);
   AddPointRasterOption(sub, opt->pass.raster);
   AddDepthModeOption(sub, opt->pass.mode, "--mode");
+  AddSilhouetteTrimOption(sub, opt->pass.silhouette_trim);
   sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)");
   sub.add_option("--out", opt->out, "Output depth EXR (camera z, channel Z, 0 = invalid)")
       ->required();

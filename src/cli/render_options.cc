@@ -17,6 +17,15 @@ CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode, const st
       ->default_str(render::DepthModeName(mode));
 }
 
+CLI::Option* AddSilhouetteTrimOption(CLI::App& app, int& pixels) {
+  return app
+      .add_option("--silhouette-trim", pixels,
+                  "Lechelek depth: window (pixels each side) of the silhouette trim that gives "
+                  "the splats' overhang past a silhouette to the farther surface (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 8));
+}
+
 CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster) {
   return app
       .add_option("--raster", raster,
@@ -100,6 +109,7 @@ CLI::Option* AddGpuMemoryOption(CLI::App& app, double& mb) {
 
 void AddRendererOptions(CLI::App& app, render::RendererOptions& options, bool& no_depth_cache) {
   AddDepthModeOption(app, options.depth.mode);
+  AddSilhouetteTrimOption(app, options.depth.silhouette_trim);
   AddBlendOptions(app, options.blend);
   AddMaxPhotoSizeOption(app, options.max_photo_size);
   AddCandidatesOption(app, options.max_candidates);

@@ -20,6 +20,8 @@ namespace hdribr::cli {
 // --depth-mode NAME (or `flag`) into `mode` (names from render::DepthModeName).
 CLI::Option* AddDepthModeOption(CLI::App& app, render::DepthMode& mode,
                                 const std::string& flag = "--depth-mode");
+// --silhouette-trim PX into `pixels` (render::DepthPassOptions::silhouette_trim, 0 = off).
+CLI::Option* AddSilhouetteTrimOption(CLI::App& app, int& pixels);
 // --raster NAME into `raster` (names from render::PointRasterName).
 CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster);
 // --weights, --k-best, --lambda, --tolerance, --background into `blend`; CheckBlendOptions

@@ -422,6 +422,11 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   begin(3);
   const gl::Program& resolve = resolve_[static_cast<int>(f.mode)];
   f.SetCamera(resolve);
+  if (f.mode == DepthMode::kLechelek) {
+    glProgramUniform1f(resolve.id(), 5, options_.front_radii);
+    glProgramUniform1f(resolve.id(), 6, options_.front_rel);
+    glProgramUniform1i(resolve.id(), 8, options_.silhouette_trim);
+  }
   resolve.Use();
   glBindTextureUnit(0, buf.splat_depth.id());
   glBindTextureUnit(1, buf.splat_normal.id());

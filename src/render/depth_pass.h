@@ -71,6 +71,10 @@ struct DepthPassOptions {
   // depth at its centre pixel and r its splat radius (world units).
   float front_radii = 2.0f;
   float front_rel = 0.005f;
+  // Lechelek resolve: silhouette trim window (pixels each side of a pushed foreground pixel),
+  // 0 = off. Such a pixel takes a farther surface when the nearest front point centre in the
+  // window lies on it (shaders/resolve.comp, TrimOverhang; docs/algorithms.md).
+  int silhouette_trim = 2;
   // Pipeline raster: step 2 in one layered draw when ARB_shader_viewport_layer_array is there
   // (else two draws). The compute raster always fills both layers in one dispatch.
   bool layered_classify = true;

@@ -41,7 +41,7 @@ std::uint64_t PhotoDepthMapsKey(const Scene& scene, const DepthPass& pass, doubl
   // The options that change the output (not profile, points_per_dispatch, layered_classify).
   const DepthPassOptions& options = pass.options();
   hash.Add(static_cast<int>(options.mode)).Add(static_cast<int>(options.raster));
-  hash.Add(options.front_radii).Add(options.front_rel);
+  hash.Add(options.front_radii).Add(options.front_rel).Add(options.silhouette_trim);
   hash.Add(scale);
   // The points as the pass reads them (order, default radii included).
   hash.Add<std::uint64_t>(pass.points().size());

@@ -60,6 +60,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Camera& camera,
   renderer_options_.max_photo_size = options.max_photo_size;
   renderer_options_.depth_cache_dir = options.depth_cache_dir;
   renderer_options_.gpu_memory_mb = options.gpu_memory_mb;
+  renderer_options_.depth.silhouette_trim = options.depth.silhouette_trim;
   renderer_options_.wait_for_photos = false;
   frustum_pass_.SetLines(MakeFrustumLines(scene_, 0.15 * scene_.scene_scale));
   // The cloud's sRGB colours (BGR, 0..1); grey when it has none.

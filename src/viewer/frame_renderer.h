@@ -49,7 +49,8 @@ void SaveWindow(const std::filesystem::path& png, int fb_width, int fb_height);
 class FrameRenderer {
  public:
   // Needs a current GL 4.5 context; `scene` and `camera` (the view's intrinsics) must outlive
-  // it. From `options`: max_photo_size, depth_cache_dir and gpu_memory_mb; photos beyond the
+  // it. From `options`: max_photo_size, depth_cache_dir, gpu_memory_mb and the depth pass's
+  // silhouette_trim; photos beyond the
   // budget are loaded without waiting (coarse copies meanwhile), and the full-quality picture
   // is rendered again once they have arrived.
   FrameRenderer(const Scene& scene, const Camera& camera, std::filesystem::path workspace,

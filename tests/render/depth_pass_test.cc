@@ -96,7 +96,8 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
         100 * worst_leak[mode]);
   }
   // Regression bounds a little below / above the figures measured (worst view, Mesa llvmpipe):
-  // plain 95.9% / 0.10%, marroquim 92.1% / 7.0%, lechelek 98.5% / 0.03%.
+  // plain 95.9% / 0.10%, marroquim 92.1% / 7.0%, lechelek 98.7% / 0.07% (silhouette trim on;
+  // 98.5% / 0.03% without).
   // plain: constant-depth splats err on slanted surfaces but hardly leak.
   EXPECT_GE(worst_acc[DepthMode::kPlain], 0.955);
   EXPECT_LE(worst_leak[DepthMode::kPlain], 0.002);
@@ -105,7 +106,7 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
   EXPECT_LE(worst_leak[DepthMode::kMarroquim], 0.08);
   EXPECT_GE(worst_leak[DepthMode::kMarroquim], 0.03);
   // lechelek: the most accurate, and it does not leak.
-  EXPECT_GE(worst_acc[DepthMode::kLechelek], 0.98);
+  EXPECT_GE(worst_acc[DepthMode::kLechelek], 0.985);
   EXPECT_LE(worst_leak[DepthMode::kLechelek], 0.001);
   EXPECT_GT(worst_acc[DepthMode::kLechelek], worst_acc[DepthMode::kPlain]);
   EXPECT_GT(worst_acc[DepthMode::kPlain], worst_acc[DepthMode::kMarroquim]);

@@ -186,6 +186,7 @@ TEST_F(PhotoDepthCacheTest, EveryInputOfTheKeyChangesIt) {
   with_option([](DepthPassOptions& o) { o.raster = PointRaster::kPipeline; });
   with_option([](DepthPassOptions& o) { o.front_radii *= 1.5f; });
   with_option([](DepthPassOptions& o) { o.front_rel *= 2.0f; });
+  with_option([](DepthPassOptions& o) { o.silhouette_trim = 0; });
   keys.push_back(PhotoDepthMapsKey(s, pass, 0.5));
 
   const auto with_scene = [&](auto change) {
@@ -233,7 +234,7 @@ TEST_F(PhotoDepthCacheTest, EveryInputOfTheKeyChangesIt) {
   std::sort(sorted.begin(), sorted.end());
   EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end())
       << "two different inputs gave the same key";
-  EXPECT_EQ(keys.size(), 19u);
+  EXPECT_EQ(keys.size(), 20u);
 }
 
 TEST_F(PhotoDepthCacheTest, ChangedInputMissesAndComputes) {
