@@ -188,7 +188,7 @@ int ViewerApp::Run() {
                     paths_.recording(), renderer_->has_camera_curve()});
     renderer_->Load(state_);
     renderer_->Render(state_, controller_.cam_from_world(), fw, fh);
-    if (screenshot_pending_ && renderer_->full_quality()) {
+    if (screenshot_pending_ && renderer_->settled()) {
       char name[64];
       std::snprintf(name, sizeof(name), "hdribr_screenshot_%03d.png", frame_ % 1000);
       state_.status = "saved " + renderer_->Screenshot(name).string();
@@ -215,8 +215,8 @@ int ViewerApp::Run() {
                  opt_.frame_budget_ms.value_or(kDefaultFrameBudgetMs));
   }
   if (!opt_.screenshot.empty() && renderer_->has_display()) {
-    // The last picture at full quality, whatever the frame budget.
-    while (!renderer_->full_quality()) {
+    // The last picture at full quality, whatever the frame budget and the photos' loads.
+    while (!renderer_->settled()) {
       renderer_->Render(state_, controller_.cam_from_world(), renderer_->width(),
                         renderer_->height());
     }

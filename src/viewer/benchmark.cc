@@ -80,7 +80,7 @@ void RunBenchmark(FrameRenderer& renderer, CameraController& controller, ViewSta
     scale += renderer.stats().scale;
   }
   const auto stop = Clock::now();
-  while (!renderer.full_quality()) frame();
+  while (!renderer.settled()) frame();
   std::printf(
       "viewer benchmark progressive, budget %.0f ms: orbit %.1f frames/s (%.1f ms/frame, mean "
       "size %.1f%% of the window), full quality %.0f ms after the camera stops\n",

@@ -221,12 +221,9 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
   if (measured) schedule_.Record(level, frame_ms);
   // A full-quality picture drawn while photos were still loading (from their coarse copies) is
   // drawn again once they are resident.
-  if (level_ == ProgressiveSchedule::kFull && stats_.residency.pending > 0) {
-    const render::PhotoResidency now = BaseRenderer().residency();
-    if (now.pending == 0) {
-      schedule_.MarkStale();
-      stats_.residency = now;
-    }
+  if (level_ == ProgressiveSchedule::kFull && stats_.residency.pending > 0 &&
+      BaseRenderer().residency().pending == 0) {
+    schedule_.MarkStale();
   }
 }
 

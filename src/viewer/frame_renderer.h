@@ -69,6 +69,8 @@ class FrameRenderer {
   void Render(const ViewState& state, const Rigid3d& pose, int width, int height);
   // True when the picture on screen is at full quality.
   bool full_quality() const { return level_ == ProgressiveSchedule::kFull; }
+  // True when it is also final: rendered with every photo it needed resident at full size.
+  bool settled() const { return full_quality() && stats_.residency.pending == 0; }
   // The display (with the frustums over it when asked, the candidate photos' in their own
   // colour) into the window's framebuffer.
   void Blit(int fb_width, int fb_height, bool frustums, int current_photo);

@@ -64,6 +64,24 @@ TEST(ProgressiveSchedule, LearnsTheCostOfReducedFrames) {
   EXPECT_EQ(level, settled);
 }
 
+TEST(ProgressiveSchedule, AStaleFullPictureIsRenderedAgainAtOnce) {
+  ProgressiveSchedule s(100);
+  s.Next(true, 0.0);
+  s.Record(kFirstLevel, 50);
+  EXPECT_EQ(s.Next(false, 1.0), kFull);
+  EXPECT_EQ(s.Next(false, 1.1), -1);
+  s.MarkStale();  // e.g. photos it was drawn without have arrived
+  EXPECT_EQ(s.Next(false, 1.11), kFull);
+  EXPECT_EQ(s.Next(false, 1.2), -1);
+  // A reduced picture is not marked: it is refined once still anyway.
+  s.Record(kFull, 800);
+  const int moving = s.Next(true, 2.0);
+  ASSERT_LT(moving, kFull);
+  s.MarkStale();
+  EXPECT_EQ(s.Next(false, 2.01), -1);
+  EXPECT_EQ(s.Next(false, 2.0 + 2 * kRefineAfterStillS), kFull);
+}
+
 TEST(ProgressiveSchedule, CheapFramesStayFullQualityWhileMoving) {
   ProgressiveSchedule s(100);
   s.Next(true, 0.0);
