@@ -273,6 +273,12 @@ void PhotoCache::Settle() {
   UploadMap();
 }
 
+int PhotoCache::Poll() {
+  Collect(loader_->TakeDone());
+  UploadMap();
+  return static_cast<int>(in_flight_);
+}
+
 void PhotoCache::Collect(std::vector<LoadedPhoto> loaded) {
   HDRIBR_CHECK(loaded.size() <= in_flight_);
   in_flight_ -= loaded.size();

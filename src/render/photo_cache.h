@@ -92,6 +92,9 @@ class PhotoCache {
   void Request(const std::vector<int>& wanted, bool wait);
   // Waits for every queued load and uploads it.
   void Settle();
+  // GL thread, between frames: uploads the photos loaded since the last call, without waiting;
+  // returns the loads still in flight.
+  int Poll();
 
   const PhotoLayout& layout() const { return layout_; }
   const PhotoLayout& fallback_layout() const { return fallback_layout_; }

@@ -333,6 +333,8 @@ void Renderer::SettleCache() {
   if (impl_->cache) impl_->cache->Settle();
 }
 
+int Renderer::PollPhotoLoads() { return impl_->cache ? impl_->cache->Poll() : 0; }
+
 bool Renderer::depth_maps_from_cache() const { return impl_->depth_maps.from_cache(); }
 
 }  // namespace hdribr::render

@@ -139,6 +139,10 @@ class Renderer {
   // With a cache: waits for the photos loading and uploads them (the next Render() of the
   // same view then blends them at full size); nothing otherwise.
   void SettleCache();
+  // With a cache: uploads the photos loaded since the last frame without waiting and returns
+  // the loads still in flight (0 without a cache): at 0, a frame rendered while they loaded is
+  // out of date.
+  int PollPhotoLoads();
   // True when the photos' depth maps were read from options.depth_cache_dir.
   bool depth_maps_from_cache() const;
 

@@ -222,7 +222,7 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
   // A full-quality picture drawn while photos were still loading (from their coarse copies) is
   // drawn again once they are resident.
   if (level_ == ProgressiveSchedule::kFull && stats_.residency.pending > 0 &&
-      BaseRenderer().residency().pending == 0) {
+      BaseRenderer().PollPhotoLoads() == 0) {
     schedule_.MarkStale();
   }
 }

@@ -109,6 +109,30 @@ TEST_F(ViewCliTest, ScreenshotMatchesOfflineRender) {
   EXPECT_LT(none.valid, c.valid - test::kSmallCaptureWidth * test::kSmallCaptureHeight / 50);
 }
 
+// Photos beyond the GPU memory budget load while the viewer draws (coarse copies meanwhile);
+// the screenshot waits for them and equals the all-resident render.
+TEST_F(ViewCliTest, PhotosBeyondTheGpuBudgetGiveTheSameScreenshot) {
+  const auto out = test::TempDir("view_cli_budget");
+  auto r = View(
+      "--hdr ldr --camera s1_v01.jpg --candidates 4 --gpu-memory 0.7 --frames 3 "
+      "--screenshot " +
+      (out / "view.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("photo cache of 4 full-size slots"), std::string::npos) << r.output;
+  r = test::RunCommand(Exe() + " render " + Ws() + " --camera s1_v01.jpg --candidates 4 --out " +
+                       (out / "render.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("photo cache"), std::string::npos) << r.output;
+  const Comparison c = Compare(ReadPng(out / "view.png"), ReadPng(out / "render.png"));
+  EXPECT_LT(c.validity_mismatch, 0.001);
+  EXPECT_LT(c.mad, 0.5);
+  EXPECT_LE(c.max_diff, 2.0);
+  // A budget that cannot hold the photos names the flag.
+  r = View("--hdr ldr --camera s1_v01.jpg --gpu-memory 0.01 --frames 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--gpu-memory"), std::string::npos) << r.output;
+}
+
 TEST_F(ViewCliTest, ExposureChangesOnlyTheToneMappedPicture) {
   const auto out = test::TempDir("view_cli_exposure");
   for (const std::string ev : {"0", "1"}) {
