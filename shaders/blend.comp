@@ -5,7 +5,7 @@
 // difference of the distances |C - P| and |C_k - P| in units of the scene scale. A photo sees
 // P when P projects inside it, passes the shadow-map test against the photo's own depth map
 // and N_p . V_k > lambda (sec. 4, "Occlusion and visibility"). Beyond the paper, pixels
-// without depth can show a background (u_background): a sphere around the scene or a surface
+// without depth can show a background (BACKGROUND): a sphere around the scene or a surface
 // at infinity, seen by the photos whose depth maps hold no point there either. Docs:
 // docs/algorithms.md.
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -16,26 +16,26 @@ struct PhotoGpu {
   vec4 intrinsics;  // fx, fy, cx, cy in pixels of the photo's camera
   vec4 center;      // xyz: centre in world, w: 1 / relative exposure
   vec4 size;        // xy: camera size in pixels, z: photo-texture texels per camera pixel,
-                    // w: level of detail added in the coarse copy (u_cached)
+                    // w: level of detail added in the coarse copy (CACHED)
   vec4 tex;         // xy: texture coordinate per camera pixel, zw: largest texture coordinate
   vec4 dmap;        // xy: depth-map texels per camera pixel, zw: depth-map layer size
-  vec4 coarse;      // u_cached: xy coarse-copy coordinate per u_photos one, zw its largest
+  vec4 coarse;      // CACHED: xy coarse-copy coordinate per u_photos one, zw its largest
 };
 layout(std430, binding = 0) readonly buffer Photos { PhotoGpu photos[]; };
 layout(std430, binding = 1) readonly buffer Active { int active_photos[]; };
-// u_cached: photo i's layer in u_photos, -1 when only its coarse copy is resident.
+// CACHED: photo i's layer in u_photos, -1 when only its coarse copy is resident.
 layout(std430, binding = 2) readonly buffer SlotMap { int slot_of[]; };
-// u_cached_depth: photo i's layer in u_photo_depth, -1 when its depth map is not resident.
+// CACHED_DEPTH: photo i's layer in u_photo_depth, -1 when its depth map is not resident.
 layout(std430, binding = 3) readonly buffer DepthSlotMap { int depth_slot_of[]; };
 
 layout(binding = 0) uniform sampler2D u_depth;           // new view: camera z, 0 = none
 layout(binding = 1) uniform sampler2D u_normal;          // new view: camera-space normal
 layout(binding = 2) uniform sampler2DArray u_photos;     // layer i = photo i, mipmapped
-                                                          // (u_cached: layer slot_of[i])
+                                                          // (CACHED: layer slot_of[i])
 layout(binding = 3) uniform sampler2DArray u_photo_depth; // layer i = photo i's camera z
-                                                          // (u_cached_depth: depth_slot_of[i])
+                                                          // (CACHED_DEPTH: depth_slot_of[i])
 layout(binding = 4) uniform sampler2D u_response;        // 256 x 1: g(Z) per channel (RGB)
-layout(binding = 5) uniform sampler2DArray u_coarse;     // u_cached: layer i = photo i, coarse
+layout(binding = 5) uniform sampler2DArray u_coarse;     // CACHED: layer i = photo i, coarse
 
 layout(binding = 0, rgba32f) writeonly uniform image2D u_out_color;
 layout(binding = 1, rgba32f) writeonly uniform image2D u_out_aux;
@@ -44,26 +44,53 @@ layout(location = 0) uniform mat4 u_world_from_cam;
 layout(location = 1) uniform vec4 u_intrinsics;  // new view, pixels of the target
 layout(location = 2) uniform ivec2 u_size;
 layout(location = 3) uniform int u_active_count;
-layout(location = 4) uniform int u_k_best;  // 0 = all photos
 layout(location = 5) uniform float u_lambda;
 layout(location = 6) uniform float u_tolerance;
 layout(location = 7) uniform float u_inv_scene_scale;
 layout(location = 8) uniform int u_debug_photo;
-layout(location = 9) uniform int u_encoding;  // 0 display, 1 radiance
-layout(location = 10) uniform int u_nearest;  // 1: projective texturing, weight 1
-layout(location = 11) uniform int u_weights;  // 0 paper eq. 5, 1 Unstructured Lumigraph
+layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (world), radius
+
+// Modes, fixed per program (BlendPass::ProgramFor): llvmpipe pays for both sides of a branch on
+// a uniform, and these halve the pass's cost as constants.
+#ifndef ENCODING
+#define ENCODING 0  // 0 display, 1 radiance
+#endif
+#ifndef NEAREST
+#define NEAREST 0  // 1: projective texturing, weight 1
+#endif
+#ifndef ULR
+#define ULR 1  // 0 paper eq. 5, 1 Unstructured Lumigraph (ignored with NEAREST)
+#endif
+#ifndef SUM_ALL
+#define SUM_ALL 0  // 1: paper eq. 5 summed over every photo (no list of best photos)
+#endif
 // Pixels without depth: 0 left empty, 1 at infinity, 2 on the sphere u_sphere
 // (render::Background).
-layout(location = 12) uniform int u_background;
-layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (world), radius
+#ifndef BACKGROUND
+#define BACKGROUND 2
+#endif
 // 1: a point's visibility in a photo is the share of the 2x2 depth texels about its projection
 // that agree with it (soft at the photo's depth discontinuities); 0: visible when one agrees.
-layout(location = 14) uniform int u_soft_visibility;
+#ifndef SOFT_VISIBILITY
+#define SOFT_VISIBILITY 0
+#endif
 // 1: the photos are in a cache (render/photo_cache.h): u_photos holds the resident ones in
 // slots, u_coarse a coarse copy of every photo; 0: u_photos holds every photo.
-layout(location = 15) uniform int u_cached;
+#ifndef CACHED
+#define CACHED 0
+#endif
 // 1: u_photo_depth holds the depth maps of the cache's depth slots (depth_slot_of).
-layout(location = 16) uniform int u_cached_depth;
+#ifndef CACHED_DEPTH
+#define CACHED_DEPTH 0
+#endif
+#ifdef FILTERED
+// Filtered blending (Eisemann et al. 2007, sec. 4): relative depth uncertainty along the view's
+// ray; each blended photo is low-passed along its line of disparity. A program of its own (the
+// unused taps would slow the others on llvmpipe).
+layout(location = 17) uniform float u_filter;
+#else
+const float u_filter = 0.0;
+#endif
 
 // Entries of the per-pixel list of best photos: K (the K best weights) or K + 1 (Unstructured
 // Lumigraph: the K smallest penalties and the threshold); each K compiles its own program, so
@@ -116,7 +143,7 @@ bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
 // passes when it agrees with one of them, a background sample (which lies beyond every point)
 // when one of them holds no point.
 float VisibleIn(int i, Sample s, vec2 px, float z_k) {
-  int layer = u_cached_depth == 1 ? depth_slot_of[i] : i;
+  int layer = CACHED_DEPTH == 1 ? depth_slot_of[i] : i;
   if (layer < 0) return 0.0;  // no depth map resident: nothing to test against
   vec4 dmap = photos[i].dmap;
   ivec2 d0 = ivec2(floor(px * dmap.xy - 0.5));
@@ -132,7 +159,7 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
     }
   }
   if (s.background) return any_empty ? 1.0 : 0.0;
-  if (u_soft_visibility == 1) return float(agree) / 4.0;
+  if (SOFT_VISIBILITY == 1) return float(agree) / 4.0;
   return agree > 0 ? 1.0 : 0.0;
 }
 
@@ -184,9 +211,9 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
     feather = max(clamp(min(border.x, border.y) / (kFeather * max(size.x, size.y)), 0.0, 1.0),
                   1e-3);
   }
-  if (u_nearest == 0) penalty = acos(min(cos_k, 1.0)) + delta;
+  if (NEAREST == 0) penalty = acos(min(cos_k, 1.0)) + delta;
   // The weight with full visibility bounds the weight (eq. 5).
-  if ((ulr ? -penalty : u_nearest == 0 ? feather * cos_k / (delta + 1.0) : feather) < min_key) {
+  if ((ulr ? -penalty : NEAREST == 0 ? feather * cos_k / (delta + 1.0) : feather) < min_key) {
     return 0.0;
   }
   float visibility = VisibleIn(i, s, px, pk.z);
@@ -194,24 +221,53 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
   feather *= visibility;
   vec4 tex = photos[i].tex;
   uvl = vec3(clamp(px * tex.xy, vec2(0.0), tex.zw), log2(max(footprint, 1e-6)));
-  return u_nearest == 0 ? feather * cos_k / (delta + 1.0) : feather;  // eq. 5
+  return NEAREST == 0 ? feather * cos_k / (delta + 1.0) : feather;  // eq. 5
 }
 
-// The blended quantity of photo i at uvl; hat receives Debevec's hat weight (radiance
-// encoding; 1 otherwise).
-vec3 PhotoValue(int i, vec3 uvl, out vec3 hat) {
-  vec3 c;
-  if (u_cached == 0) {
-    c = textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
-  } else if (slot_of[i] >= 0) {
-    c = textureLod(u_photos, vec3(uvl.xy, float(slot_of[i])), uvl.z).rgb;
-  } else {
-    vec4 co = photos[i].coarse;
-    c = textureLod(u_coarse, vec3(min(uvl.xy * co.xy, co.zw), float(i)), uvl.z + photos[i].size.w)
-            .rgb;
+// Photo i's stored value at uvl (texture coordinate, level of detail).
+vec3 FetchPhoto(int i, vec3 uvl) {
+  if (CACHED == 0) return textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
+  if (slot_of[i] >= 0) return textureLod(u_photos, vec3(uvl.xy, float(slot_of[i])), uvl.z).rgb;
+  vec4 co = photos[i].coarse;
+  return textureLod(u_coarse, vec3(min(uvl.xy * co.xy, co.zw), float(i)), uvl.z + photos[i].size.w)
+      .rgb;
+}
+
+// Photo i's stored value low-passed along its line of disparity (Eisemann et al. 2007, sec. 4):
+// the segment between the projections of the points at relative depths 1 - u and 1 + u along
+// the view's ray through s.P, sampled with 5 binomial taps at the level of detail of their
+// spacing (a single tap where the segment is under a texel).
+vec3 FetchFiltered(int i, Sample s, vec3 uvl, float u) {
+#ifndef FILTERED
+  return FetchPhoto(i, uvl);
+#else
+  if (u <= 0.0 || s.background) return FetchPhoto(i, uvl);
+  vec3 C = u_world_from_cam[3].xyz;
+  vec3 a = (photos[i].cam_from_world * vec4(C + (s.P - C) * (1.0 - u), 1.0)).xyz;
+  vec3 b = (photos[i].cam_from_world * vec4(C + (s.P - C) * (1.0 + u), 1.0)).xyz;
+  if (a.z <= 0.0 || b.z <= 0.0) return FetchPhoto(i, uvl);
+  vec4 intr = photos[i].intrinsics;
+  vec2 pa = intr.xy * a.xy / a.z + intr.zw;
+  vec2 pb = intr.xy * b.xy / b.z + intr.zw;
+  float texels = length(pb - pa) * photos[i].size.z;
+  if (texels <= 1.0) return FetchPhoto(i, uvl);
+  vec4 tex = photos[i].tex;
+  float lod = max(uvl.z, log2(texels * 0.25));
+  const float kTap[5] = float[5](1.0, 4.0, 6.0, 4.0, 1.0);
+  vec3 sum = vec3(0.0);
+  for (int t = 0; t < 5; ++t) {
+    vec2 px = mix(pa, pb, float(t) * 0.25);
+    sum += kTap[t] * FetchPhoto(i, vec3(clamp(px * tex.xy, vec2(0.0), tex.zw), lod));
   }
+  return sum / 16.0;
+#endif
+}
+
+// The blended quantity of photo i from its stored value c; hat receives Debevec's hat weight
+// (radiance encoding; 1 otherwise).
+vec3 Blended(int i, vec3 c, out vec3 hat) {
   hat = vec3(1.0);
-  if (u_encoding == 1) {
+  if (ENCODING == 1) {
     vec3 z = clamp(c * 255.0, 0.0, 255.0);
     // min(Z, 255 - Z) per channel, floored so that a value saturated in every photo keeps its
     // (clipped) radiance instead of going invalid.
@@ -234,8 +290,8 @@ void main() {
   vec3 C = u_world_from_cam[3].xyz;
   Sample s;
   s.background = z <= 0.0;
-  s.at_infinity = s.background && u_background == 1;
-  if (s.background && u_background == 2) z = SphereDepth(C, mat3(u_world_from_cam) * ray);
+  s.at_infinity = s.background && BACKGROUND == 1;
+  if (s.background && BACKGROUND == 2) z = SphereDepth(C, mat3(u_world_from_cam) * ray);
   if (z > 0.0 || s.at_infinity) {
     if (s.at_infinity) {
       s.P = normalize(mat3(u_world_from_cam) * ray);
@@ -256,10 +312,10 @@ void main() {
     float geo_sum = 0.0;
     float debug_w = 0.0;
     float count = 0.0;
-    // Candidates: every photo (paper, u_k_best = 0), or the K best by weight, or the K + 1
+    // Candidates: every photo (paper, SUM_ALL), or the K best by weight, or the K + 1
     // smallest penalties (Unstructured Lumigraph), kept sorted (Beats), so the list does not
     // depend on the order the photos are visited in.
-    bool ulr = u_weights == 1 && u_nearest == 0;
+    bool ulr = ULR == 1 && NEAREST == 0;
     int k = ulr ? KEEP - 1 : KEEP;
     float best_key[KEEP];
     float best_w[KEEP];
@@ -281,9 +337,9 @@ void main() {
       float penalty;
       float w = Weight(i, s, ulr, best_key[KEEP - 1], uvl, feather, penalty);
       if (w <= 0.0) continue;
-      if (u_k_best <= 0 && !ulr) {  // all photos: accumulate directly
+      if (SUM_ALL == 1) {  // all photos: accumulate directly
         vec3 hat;
-        vec3 c = PhotoValue(i, uvl, hat);
+        vec3 c = Blended(i, FetchFiltered(i, s, uvl, u_filter), hat);
         sum += w * hat * c;
         wsum += w * hat;
         geo_sum += w;
@@ -328,7 +384,7 @@ void main() {
     for (int j = 0; j < KEEP; ++j) {
       if (j >= n_best || best_w[j] <= 0.0) continue;
       vec3 hat;
-      vec3 c = PhotoValue(best_i[j], best_uvl[j], hat);
+      vec3 c = Blended(best_i[j], FetchFiltered(best_i[j], s, best_uvl[j], u_filter), hat);
       sum += best_w[j] * hat * c;
       wsum += best_w[j] * hat;
       geo_sum += best_w[j];

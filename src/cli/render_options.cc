@@ -58,6 +58,10 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
       ->transform(NamesTo(std::map<std::string, render::Visibility>{
           {"hard", render::Visibility::kHard}, {"soft", render::Visibility::kSoft}}))
       ->default_str(blend.visibility == render::Visibility::kSoft ? "soft" : "hard");
+  app.add_option("--filter", blend.filter,
+                 "Filtered blending (Eisemann et al. 2007): relative depth uncertainty over "
+                 "which each photo is low-passed along its line of disparity (0 = off)")
+      ->capture_default_str();
 }
 
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background) {

@@ -1,6 +1,7 @@
 #include "render/blend_options.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "core/error.h"
 
@@ -49,6 +50,11 @@ std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options)
   if (!(options.occlusion_tolerance > 0.0f && options.occlusion_tolerance < 1.0f)) {
     problems.push_back({"occlusion_tolerance",
                         "must be in (0, 1), got " + std::to_string(options.occlusion_tolerance)});
+  }
+  if (!(options.filter >= 0.0f && options.filter <= kMaxFilter)) {
+    std::ostringstream problem;
+    problem << "must be in [0, " << kMaxFilter << "] (0 = off), got " << options.filter;
+    problems.push_back({"filter", problem.str()});
   }
   return problems;
 }

@@ -33,6 +33,9 @@ inline constexpr int kDefaultUnstructuredK = 4;
 // Largest K of BlendOptions::k_best handled per pixel (KEEP - 1 in shaders/blend.comp).
 inline constexpr int kMaxKBest = 32;
 
+// Largest BlendOptions::filter: a depth uncertainty of +-50 %.
+inline constexpr float kMaxFilter = 0.5f;
+
 // What the blend shows where the depth pass found no point (sky, distant ground, gaps).
 // Either surface is seen by a photo where the photo's own depth map has no point either.
 // The values are u_background of shaders/blend.comp.
@@ -74,16 +77,21 @@ struct BlendOptions {
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
   Background background = Background::kSphere;
   Visibility visibility = Visibility::kHard;
+  // Filtered blending (Eisemann et al. 2007): relative depth uncertainty along the view's ray
+  // over which each blended photo is low-passed; 0 = off.
+  float filter = 0.0f;
 };
 
 // One BlendOptions field that no blend can use.
 struct BlendOptionProblem {
-  std::string field;    // the BlendOptions member: "k_best", "lambda", "occlusion_tolerance"
+  std::string field;    // the BlendOptions member: "k_best", "lambda", "occlusion_tolerance",
+                        // "filter"
   std::string problem;  // e.g. "must be in [0, 32] (0 = the default), got 40"
 };
 
 // The fields of `options` outside their valid ranges: k_best in [0, kMaxKBest] whatever the
-// weights, lambda in [0, 1), occlusion_tolerance in (0, 1). Empty when the options are usable.
+// weights, lambda in [0, 1), occlusion_tolerance in (0, 1), filter in [0, kMaxFilter]. Empty when
+// the options are usable.
 std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options);
 
 // Throws OptionError(field, problem) for the first of BlendOptionProblems.

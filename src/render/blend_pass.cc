@@ -21,6 +21,25 @@ struct PhotoGpu {
 };
 static_assert(sizeof(PhotoGpu) == 40 * 4);
 
+// The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
+// the per-pixel list, `sum_all` for eq. 5 over every photo, `cached` / `cached_depth` when the
+// photos / their depth maps are in a PhotoCache.
+gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, bool cached,
+                         bool cached_depth) {
+  const bool nearest = options.mode == BlendMode::kNearestPhoto;
+  gl::Defines modes = {{"KEEP", std::to_string(keep)},
+                       {"ENCODING", options.encoding == PhotoEncoding::kRadiance ? "1" : "0"},
+                       {"NEAREST", nearest ? "1" : "0"},
+                       {"ULR", options.weights == BlendWeights::kUnstructured ? "1" : "0"},
+                       {"SUM_ALL", sum_all ? "1" : "0"},
+                       {"BACKGROUND", std::to_string(static_cast<int>(options.background))},
+                       {"SOFT_VISIBILITY", options.visibility == Visibility::kSoft ? "1" : "0"},
+                       {"CACHED", cached ? "1" : "0"},
+                       {"CACHED_DEPTH", cached_depth ? "1" : "0"}};
+  if (!nearest && options.filter > 0.0f) modes.emplace_back("FILTERED", "1");
+  return modes;
+}
+
 }  // namespace
 
 Eigen::Vector4d BackgroundSphere(const Scene& scene) {
@@ -42,15 +61,14 @@ Eigen::Vector4d BackgroundSphere(const Scene& scene) {
 }
 
 BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
-  ProgramFor(kDefaultUnstructuredK + 1);  // the default's, so that compile errors show early
+  // The default's, so that compile errors show early.
+  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, false, false));
 }
 
-const gl::Program& BlendPass::ProgramFor(int keep) const {
-  auto it = programs_.find(keep);
-  if (it == programs_.end()) {
-    it = programs_.emplace(keep, shaders_.Build({"blend.comp"}, {{"KEEP", std::to_string(keep)}}))
-             .first;
-  }
+const gl::Program& BlendPass::ProgramFor(const gl::Defines& modes) const {
+  auto it = programs_.find(modes);
+  if (it == programs_.end())
+    it = programs_.emplace(modes, shaders_.Build({"blend.comp"}, modes)).first;
   return it->second;
 }
 
@@ -161,7 +179,9 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   // (1, unused, when every photo is blended).
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
-  const gl::Program& program = ProgramFor(keep);
+  const bool sum_all = k_best <= 0 && !(ulr && !nearest);
+  const gl::Program& program =
+      ProgramFor(ProgramModes(options, keep, sum_all, cache_ != nullptr, cached_depth_));
   const GLuint p = program.id();
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
   glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
@@ -170,19 +190,12 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform4fv(p, 1, 1, intr);
   glProgramUniform2i(p, 2, depth.width(), depth.height());
   glProgramUniform1i(p, 3, active_count_);
-  glProgramUniform1i(p, 4, k_best);
   glProgramUniform1f(p, 5, options.lambda);
   glProgramUniform1f(p, 6, options.occlusion_tolerance);
   glProgramUniform1f(p, 7, inv_scene_scale_);
   glProgramUniform1i(p, 8, options.debug_photo);
-  glProgramUniform1i(p, 9, options.encoding == PhotoEncoding::kRadiance ? 1 : 0);
-  glProgramUniform1i(p, 10, nearest ? 1 : 0);
-  glProgramUniform1i(p, 11, ulr ? 1 : 0);
-  glProgramUniform1i(p, 12, static_cast<int>(options.background));
   glProgramUniform4fv(p, 13, 1, sphere_);
-  glProgramUniform1i(p, 14, static_cast<int>(options.visibility));
-  glProgramUniform1i(p, 15, cache_ ? 1 : 0);
-  glProgramUniform1i(p, 16, cached_depth_ ? 1 : 0);
+  if (!nearest && options.filter > 0.0f) glProgramUniform1f(p, 17, options.filter);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());

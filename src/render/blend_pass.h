@@ -50,12 +50,12 @@ class BlendPass {
  private:
   void SetPhotos(const Scene& scene, const PhotoLayout& layout, GLuint texture,
                  const PhotoDepthMaps& depth_maps, const PhotoCache* cache);
-  // The program whose per-pixel list holds `keep` photos (KEEP in shaders/blend.comp), built
-  // on first use.
-  const gl::Program& ProgramFor(int keep) const;
+  // The program compiled with `modes` (the defines of shaders/blend.comp: the length of the
+  // per-pixel list, the weights, encoding, background, ...), built on first use.
+  const gl::Program& ProgramFor(const gl::Defines& modes) const;
 
   const gl::ShaderLibrary& shaders_;
-  mutable std::map<int, gl::Program> programs_;  // by KEEP
+  mutable std::map<gl::Defines, gl::Program> programs_;  // by modes
   gl::Buffer photos_;
   gl::Buffer active_;
   GLuint photo_texture_ = 0;

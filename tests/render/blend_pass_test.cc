@@ -282,10 +282,19 @@ TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
   BlendOptions bad;
   bad.lambda = 1.0f;
   bad.occlusion_tolerance = 0.0f;
+  bad.filter = kMaxFilter * 1.01f;
   const auto problems = BlendOptionProblems(bad);
-  ASSERT_EQ(problems.size(), 2u);
+  ASSERT_EQ(problems.size(), 3u);
   EXPECT_EQ(problems[0].field, "lambda");
   EXPECT_EQ(problems[1].field, "occlusion_tolerance");
+  EXPECT_EQ(problems[2].field, "filter");
+  bad = BlendOptions();
+  bad.filter = -0.01f;
+  EXPECT_EQ(BlendOptionProblems(bad).size(), 1u);
+  bad.filter = kMaxFilter;
+  EXPECT_TRUE(BlendOptionProblems(bad).empty());
+  bad.lambda = 1.0f;
+  bad.occlusion_tolerance = 0.0f;
   try {
     ValidateBlendOptions(bad);
     ADD_FAILURE() << "no OptionError";
@@ -308,6 +317,47 @@ TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
   EXPECT_THROW(Renderer(shaders, missing, ro), OptionError);
   ro.blend.k_best = 4;
   EXPECT_THROW(Renderer(shaders, missing, ro), InputError);  // the photo, read after the check
+}
+
+// Filtered blending (Eisemann et al. 2007): a photo at the view's own viewpoint has a line of
+// disparity of length 0 and keeps every detail; photos elsewhere are low-passed (here over
+// +-5 % of the depth), so a leave-one-out render loses high frequencies but keeps its pixels.
+TEST_F(BlendPassTest, FilteredBlending) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  RendererOptions sharp_options, filtered_options;
+  filtered_options.blend.filter = 0.05f;
+  Renderer sharp(shaders, scene_, sharp_options), filtered(shaders, scene_, filtered_options);
+  const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
+    cv::Mat grey, lap;
+    cv::cvtColor(im.color, grey, cv::COLOR_BGR2GRAY);
+    cv::Laplacian(grey, lap, CV_32F);
+    return cv::mean(cv::abs(lap), im.valid)[0];
+  };
+  for (int photo : {1, 8}) {
+    std::vector<int> with = SameSeriesExcept(photo);
+    with.push_back(photo);
+    sharp.SetActivePhotos(with);
+    filtered.SetActivePhotos(with);
+    const RenderImages a = RenderPhotoView(sharp, photo), b = RenderPhotoView(filtered, photo);
+    EXPECT_EQ(cv::countNonZero(a.valid != b.valid), 0);
+    const cv::Mat diff = cv::abs(a.color - b.color);
+    double max_diff = 0.0;
+    cv::minMaxLoc(diff.reshape(1), nullptr, &max_diff, nullptr, nullptr,
+                  cv::repeat(a.valid, 1, 3));
+    EXPECT_LT(max_diff, 0.02) << "photo " << photo << " at its own viewpoint";
+
+    sharp.SetActivePhotos(SameSeriesExcept(photo));
+    filtered.SetActivePhotos(SameSeriesExcept(photo));
+    const RenderImages s = RenderPhotoView(sharp, photo), f = RenderPhotoView(filtered, photo);
+    ExpectSane(f, 5);
+    EXPECT_EQ(cv::countNonZero(s.valid != f.valid), 0);
+    const double psnr_s = Psnr(s, photo), psnr_f = Psnr(f, photo);
+    std::printf("photo %d: detail %.4f -> %.4f, PSNR %.2f -> %.2f dB\n", photo, detail(s),
+                detail(f), psnr_s, psnr_f);
+    EXPECT_LT(detail(f), 0.9 * detail(s));
+    EXPECT_GT(psnr_f, 20.0);  // a blurred picture of the scene, not noise
+  }
 }
 
 TEST_F(BlendPassTest, UnstructuredLumigraphWeights) {
