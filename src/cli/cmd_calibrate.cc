@@ -28,6 +28,10 @@ struct CalibrateOptions {
   std::string workspace;
   int samples = GatherOptions().samples;
   double lambda = MultiViewOptions().lambda;
+  bool per_channel = false;
+  double response_prior = -1;  // < 0: chosen by cross-validation
+  double channel_sigma = MultiViewOptions().channel_sigma;
+  bool verbose = false;
   bool no_depth_cache = false;
   std::string truth;  // a synthetic capture: errors against its true response and exposures
 };
@@ -84,6 +88,12 @@ int Run(const CalibrateOptions& opt) {
   render::CloudCalibrationOptions options;
   options.gather.samples = opt.samples;
   options.solve.lambda = opt.lambda;
+  options.solve.per_channel_exposure = opt.per_channel;
+  if (opt.response_prior >= 0) {
+    options.solve.response_prior = opt.response_prior;
+    options.solve.response_prior_candidates.clear();
+  }
+  options.solve.channel_sigma = opt.channel_sigma;
   options.depth_cache_dir = WorkspaceDepthCache(opt.workspace, opt.no_depth_cache);
   const WorkspaceCalibration c = CalibrateWorkspace(opt.workspace, options);
   const render::CloudCalibrationResult& result = c.result;
@@ -110,6 +120,25 @@ int Run(const CalibrateOptions& opt) {
     if (!e.calibrated)
       std::printf("  %s: not calibrated (no usable overlap), EXIF kept\n", name.c_str());
   }
+  if (!st.prior_code_error.empty()) {
+    std::printf("response prior %g chosen by cross-validation; re-exposure error (DN):",
+                st.response_prior);
+    for (size_t k = 0; k < st.prior_code_error.size(); ++k) {
+      std::printf(" %g: %.3f", options.solve.response_prior_candidates[k], st.prior_code_error[k]);
+    }
+    std::printf("\n");
+  }
+  if (opt.verbose) {
+    const MultiViewCalibration& m = result.calibration;
+    std::printf("photo  ln t  (B-t G-t R-t)  exif-t  obs  rms\n");
+    for (size_t i = 0; i < m.log_exposure.size(); ++i) {
+      const auto& ch = m.channel_log_exposure[i];
+      std::printf("%3zu %7.3f  (%+.3f %+.3f %+.3f)  %+.3f %6d %.4f\n", i, m.log_exposure[i],
+                  ch[0] - m.log_exposure[i], ch[1] - m.log_exposure[i], ch[2] - m.log_exposure[i],
+                  result.prior_log_exposure[i] - m.log_exposure[i], m.photo_observations[i],
+                  m.photo_residual_rms[i]);
+    }
+  }
   std::printf("wrote %s and %s in %.1f s\n", c.response_file.c_str(), c.exposures_file.c_str(),
               seconds);
   if (!opt.truth.empty()) ReportTruth(calibration, result.calibration.response, opt.truth);
@@ -129,13 +158,24 @@ CommandRunner SetupCalibrate(CLI::App& sub) {
   sub.add_option("--samples", opt->samples, "Scene points to sample")->capture_default_str();
   sub.add_option("--lambda", opt->lambda, "Smoothness weight of the response")
       ->capture_default_str();
+  CLI::Option* prior = sub.add_option(
+      "--response-prior", opt->response_prior,
+      "Weight of sRGB's slope as a prior on the response (default: chosen by cross-validation)");
+  sub.add_flag("--per-channel", opt->per_channel, "One exposure per photo and channel");
+  sub.add_option("--channel-sigma", opt->channel_sigma, "Prior sd of a channel's exposure")
+      ->capture_default_str();
+  sub.add_flag("-v,--verbose", opt->verbose, "Per-photo exposures and residuals");
   AddNoDepthCacheOption(sub, opt->no_depth_cache);
   sub.add_option("--truth", opt->truth,
                  "Synthetic capture folder: report the errors against its true response and "
                  "exposures");
-  return [opt] {
+  return [opt, prior] {
     if (opt->samples < 16) throw UsageError("--samples must be at least 16");
     if (!(opt->lambda > 0)) throw UsageError("--lambda must be > 0");
+    if (prior->count() > 0 && !(opt->response_prior >= 0)) {
+      throw UsageError("--response-prior must be >= 0");
+    }
+    if (!(opt->channel_sigma > 0)) throw UsageError("--channel-sigma must be > 0");
     return Run(*opt);
   };
 }

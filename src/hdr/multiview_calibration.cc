@@ -38,6 +38,12 @@ double SrgbLogSpan() {
   return std::log(decode(192.0 / 255.0) / decode(64.0 / 255.0));
 }
 
+// ln of sRGB's decoding of code z (IEC 61966-2-1), z in 1..255.
+double SrgbLog(int z) {
+  const double v = z / 255.0;
+  return std::log(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
+}
+
 // Channel observations grouped by (sample, channel): one group per scene radiance E_jc.
 struct Groups {
   std::vector<int> begin{0};  // observations of group k: [begin[k], begin[k + 1])
@@ -113,9 +119,13 @@ struct Gauge {
   bool exponent_from_prior = false;  // else from MultiViewOptions::assumed_log_span
   std::vector<int> prior_photos;     // solved photos with a prior
   double mean_prior = 0.0;           // mean prior over them (0 without)
+  // Per-channel exposures: per photo, ln t of a solve with one exposure per photo (centred),
+  // to which the channels' offsets are held orthogonal; empty otherwise.
+  std::vector<double> scalar_log_exposure;
 };
 
-// One least-squares problem: unknowns g (kCurveVars) then ln t of the solved photos.
+// One least-squares problem: unknowns g (kCurveVars) then ln t of the solved photos (one per
+// photo, or one per photo and channel with MultiViewOptions::per_channel_exposure).
 class Solver {
  public:
   Solver(const Groups& groups, const std::vector<double>& prior, const std::vector<int>& slot,
@@ -125,7 +135,8 @@ class Solver {
         slot_(slot),
         options_(options),
         gauge_(gauge),
-        n_(kCurveVars + solved) {}
+        channels_(options.per_channel_exposure ? 3 : 1),
+        n_(kCurveVars + channels_ * solved) {}
 
   // The data and smoothness part of the normal equations (right-hand side 0) for the
   // observation weights `robust` (in [0, 1], per observation).
@@ -133,6 +144,8 @@ class Solver {
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n_, n_);
     AddData(robust, h);
     AddSmoothness(h);
+    AddChannelPrior(h);
+    AddResponsePrior(h, nullptr, 0.0);
     return h;
   }
 
@@ -142,6 +155,7 @@ class Solver {
     Eigen::MatrixXd h = base;
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n_);
     if (use_prior) AddPrior(h, b);
+    AddResponsePrior(h, &b, span);
     AddGauge(span, h, b);
     const Eigen::LLT<Eigen::MatrixXd> llt(h);  // blocked: several times faster than LDLT
     if (llt.info() == Eigen::Success) {
@@ -153,7 +167,17 @@ class Solver {
     return ldlt.info() == Eigen::Success && x.allFinite();
   }
 
-  int TimeVar(int photo) const { return kCurveVars + slot_[photo]; }
+  // Index of ln t of `photo` in channel c.
+  int TimeVar(int photo, int c) const {
+    return kCurveVars + channels_ * slot_[photo] + (channels_ == 3 ? c : 0);
+  }
+
+  // ln t of `photo`: the mean over the channels.
+  double MeanTime(const Eigen::VectorXd& x, int photo) const {
+    double sum = 0;
+    for (int c = 0; c < channels_; ++c) sum += x(TimeVar(photo, c));
+    return sum / channels_;
+  }
 
   // g_c(z) from a solution (0 at the gauge).
   static double Curve(const Eigen::VectorXd& x, int c, int z) {
@@ -177,7 +201,7 @@ class Solver {
         if (a <= 0) continue;
         total += a;
         const int g = CurveVar(c, groups_.z[o]);
-        const int t = TimeVar(groups_.photo[o]);
+        const int t = TimeVar(groups_.photo[o], c);
         h(t, t) += a;
         if (g >= 0) {
           h(g, g) += a;
@@ -213,13 +237,56 @@ class Solver {
     }
   }
 
-  // Each photo's own prior: (observation_sigma / prior_sigma) w_mid (ln t - prior) = 0.
+  // Each photo's own prior: (observation_sigma / prior_sigma) w_mid (ln t - prior) = 0, ln t
+  // the mean over the channels.
   void AddPrior(Eigen::MatrixXd& h, Eigen::VectorXd& b) const {
     const double ratio = options_.observation_sigma / options_.prior_sigma;
-    const double weight = kMidWeight * kMidWeight * ratio * ratio;
+    const double weight = kMidWeight * kMidWeight * ratio * ratio / (channels_ * channels_);
     for (int i : gauge_.prior_photos) {
-      h(TimeVar(i), TimeVar(i)) += weight;
-      b(TimeVar(i)) += weight * prior_[i];
+      for (int c = 0; c < channels_; ++c) {
+        for (int d = 0; d < channels_; ++d) h(TimeVar(i, c), TimeVar(i, d)) += weight;
+        b(TimeVar(i, c)) += weight * channels_ * prior_[i];
+      }
+    }
+  }
+
+  // The slope prior response_prior w(k)^2 [g(k + 1) - g(k) - s (r(k + 1) - r(k))]^2, r sRGB's
+  // ln decoding, s = span / (sRGB's span): its matrix part into h when b is null (it does not
+  // depend on the span), else its right-hand side into b.
+  void AddResponsePrior(Eigen::MatrixXd& h, Eigen::VectorXd* b, double span) const {
+    if (!(options_.response_prior > 0)) return;
+    const double s = span / SrgbLogSpan();
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 1; k + 1 < kLevels - 1; ++k) {
+        const double w = 0.5 * (HatWeight(k) + HatWeight(k + 1));
+        const double a = options_.response_prior * w * w;
+        const int i = CurveVar(c, k), j = CurveVar(c, k + 1);
+        if (b) {
+          const double d = s * (SrgbLog(k + 1) - SrgbLog(k));
+          if (j >= 0) (*b)(j) += a * d;
+          if (i >= 0) (*b)(i) -= a * d;
+          continue;
+        }
+        if (i >= 0) h(i, i) += a;
+        if (j >= 0) h(j, j) += a;
+        if (i >= 0 && j >= 0) h(i, j) -= a, h(j, i) -= a;
+      }
+    }
+  }
+
+  // With per-channel exposures: (observation_sigma / channel_sigma) w_mid (ln t_ic - ln t_i)
+  // = 0 for each photo and channel, ln t_i the mean over the channels.
+  void AddChannelPrior(Eigen::MatrixXd& h) const {
+    if (channels_ == 1) return;
+    const double ratio = options_.observation_sigma / options_.channel_sigma;
+    const double weight = kMidWeight * kMidWeight * ratio * ratio;
+    for (int i = 0; i < static_cast<int>(slot_.size()); ++i) {
+      if (slot_[i] < 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        for (int d = 0; d < 3; ++d) {
+          h(TimeVar(i, c), TimeVar(i, d)) += weight * ((c == d ? 1.0 : 0.0) - 1.0 / 3.0);
+        }
+      }
     }
   }
 
@@ -230,21 +297,41 @@ class Solver {
   void AddGauge(double span, Eigen::MatrixXd& h, Eigen::VectorXd& b) const {
     const double heavy = 1e4 * std::max(1.0, h.diagonal().maxCoeff());
     const auto add = [&](const std::vector<std::pair<int, double>>& a, double beta) {
-      const double norm2 = static_cast<double>(a.size());  // entries are +-1
+      double norm2 = 0;
+      for (const auto& entry : a) norm2 += entry.second * entry.second;
+      if (!(norm2 > 0)) return;
       for (const auto& [i, ai] : a) {
         b(i) += heavy * ai * beta / norm2;
         for (const auto& [j, aj] : a) h(i, j) += heavy * ai * aj / norm2;
       }
     };
     std::vector<std::pair<int, double>> a;
-    if (!gauge_.prior_photos.empty()) {
-      for (int i : gauge_.prior_photos) a.emplace_back(TimeVar(i), 1.0);
-    } else {
-      for (int i = 0; i < static_cast<int>(slot_.size()); ++i) {
-        if (slot_[i] >= 0) a.emplace_back(TimeVar(i), 1.0);
+    for (int c = 0; c < channels_; ++c) {  // per channel: ln E_jc - k, ln t_ic + k is free
+      a.clear();
+      if (!gauge_.prior_photos.empty()) {
+        for (int i : gauge_.prior_photos) a.emplace_back(TimeVar(i, c), 1.0);
+      } else {
+        for (int i = 0; i < static_cast<int>(slot_.size()); ++i) {
+          if (slot_[i] >= 0) a.emplace_back(TimeVar(i, c), 1.0);
+        }
+      }
+      add(a, gauge_.mean_prior * static_cast<double>(a.size()));
+    }
+    // Per channel, g_c -> k_c g_c, ln t_ic -> k_c ln t_ic: offsets ln t_ic - ln t_i that grow
+    // with the exposure are an exponent per channel, which the data leave free: the offsets
+    // are held orthogonal to the exposures (sum_i (ln t_ic - ln t_i) s_i = 0, s_i centred).
+    if (channels_ == 3 && !gauge_.scalar_log_exposure.empty()) {
+      for (int c = 0; c < 3; ++c) {
+        a.clear();
+        for (int i = 0; i < static_cast<int>(slot_.size()); ++i) {
+          if (slot_[i] < 0) continue;
+          const double si = gauge_.scalar_log_exposure[i];
+          for (int d = 0; d < 3; ++d)
+            a.emplace_back(TimeVar(i, d), si * ((c == d ? 1.0 : 0.0) - 1.0 / 3.0));
+        }
+        add(a, 0.0);
       }
     }
-    add(a, gauge_.mean_prior * static_cast<double>(a.size()));
     a.clear();
     for (int c = 0; c < 3; ++c) {
       a.emplace_back(CurveVar(c, 192), 1.0);
@@ -260,6 +347,7 @@ class Solver {
   const std::vector<int>& slot_;
   const MultiViewOptions& options_;
   const Gauge& gauge_;
+  const int channels_;
   const int n_;
 };
 
@@ -271,7 +359,7 @@ std::vector<double> Residuals(const Groups& groups, const Solver& solver,
     const int c = groups.channel[k];
     double total = 0, sum = 0;
     for (int o = groups.begin[k]; o < groups.begin[k + 1]; ++o) {
-      r[o] = Solver::Curve(x, c, groups.z[o]) - x(solver.TimeVar(groups.photo[o]));
+      r[o] = Solver::Curve(x, c, groups.z[o]) - x(solver.TimeVar(groups.photo[o], c));
       const double w = HatWeight(groups.z[o]);
       total += w * w * robust[o];
       sum += w * w * robust[o] * r[o];
@@ -307,6 +395,17 @@ void ValidateOptions(const MultiViewOptions& o) {
     throw OptionError("observation_sigma", "must be a positive number");
   }
   if (o.robust_rounds < 0) throw OptionError("robust_rounds", "must be >= 0");
+  if (!(o.response_prior >= 0) || !std::isfinite(o.response_prior)) {
+    throw OptionError("response_prior", "must be a non-negative number");
+  }
+  for (double candidate : o.response_prior_candidates) {
+    if (!(candidate >= 0) || !std::isfinite(candidate)) {
+      throw OptionError("response_prior_candidates", "must be non-negative numbers");
+    }
+  }
+  if (!(o.channel_sigma > 0) || !std::isfinite(o.channel_sigma)) {
+    throw OptionError("channel_sigma", "must be a positive number");
+  }
   if (!(o.cauchy_scale > 0) || !std::isfinite(o.cauchy_scale)) {
     throw OptionError("cauchy_scale", "must be a positive number");
   }
@@ -349,10 +448,10 @@ double PriorSlope(const Solver& solver, const Gauge& gauge, const std::vector<do
                   const Eigen::VectorXd& x) {
   const double n = static_cast<double>(gauge.prior_photos.size());
   double mean_t = 0;
-  for (int i : gauge.prior_photos) mean_t += x(solver.TimeVar(i)) / n;
+  for (int i : gauge.prior_photos) mean_t += solver.MeanTime(x, i) / n;
   double sxy = 0, sxx = 0;
   for (int i : gauge.prior_photos) {
-    const double dt = x(solver.TimeVar(i)) - mean_t;
+    const double dt = solver.MeanTime(x, i) - mean_t;
     sxy += dt * (prior[i] - gauge.mean_prior);
     sxx += dt * dt;
   }
@@ -394,12 +493,134 @@ void SolveRound(const Solver& solver, const Gauge& gauge, const std::vector<doub
   }
 }
 
+// The code z (continuous) with g(z) = v on a non-decreasing curve, linear between codes and
+// clamped to [0, 255].
+double CodeOf(const std::vector<double>& g, double v) {
+  if (!(v > g.front())) return 0.0;
+  if (!(v < g.back())) return kLevels - 1.0;
+  const int hi = static_cast<int>(std::upper_bound(g.begin(), g.end(), v) - g.begin());
+  const double span = g[hi] - g[hi - 1];
+  return hi - 1 + (span > 0 ? (v - g[hi - 1]) / span : 0.0);
+}
+
+// Mean |z - g^-1(ln E + ln t)| (DN) over the observations of `samples` from calibrated photos
+// with values in (margin, 255 - margin), ln E the w(z)^2-weighted mean of g(z) - ln t over the
+// sample's other such observations in the channel. Adds the errors and their squares to `sum`
+// and `sum2`, their number to `count`.
+void AddCodeError(const MultiViewCalibration& fit, const std::vector<MultiViewSample>& samples,
+                  int margin, double& sum, double& sum2, long& count) {
+  std::vector<std::pair<int, double>> obs;  // (z, ln t)
+  for (const MultiViewSample& sample : samples) {
+    for (int c = 0; c < 3; ++c) {
+      const std::vector<double>& g = fit.response.log_inverse[c];
+      obs.clear();
+      double total = 0, weighted = 0;
+      for (const MultiViewObservation& o : sample.observations) {
+        const int z = o.bgr[c];
+        if (z <= margin || z >= 255 - margin || !fit.calibrated[o.photo]) continue;
+        const double log_t = fit.channel_log_exposure[o.photo][c];
+        const double a = HatWeight(z) * HatWeight(z);
+        obs.emplace_back(z, log_t);
+        total += a;
+        weighted += a * (g[z] - log_t);
+      }
+      if (obs.size() < 2) continue;
+      for (const auto& [z, log_t] : obs) {
+        const double a = HatWeight(z) * HatWeight(z);
+        if (!(total - a > 0)) continue;
+        const double log_e = (weighted - a * (g[z] - log_t)) / (total - a);
+        const double e = std::abs(CodeOf(g, log_e + log_t) - z);
+        sum += e;
+        sum2 += e * e;
+        ++count;
+      }
+    }
+  }
+}
+
+// Mean of a cross-validated error and its standard error.
+struct CodeError {
+  double mean = std::numeric_limits<double>::infinity();
+  double standard_error = 0.0;
+};
+
+// Per candidate of options.response_prior_candidates, the two-fold cross-validated
+// re-exposure error (MultiViewOptions::response_prior_candidates); an infinite mean when a
+// half cannot be calibrated. The fits run in parallel.
+std::vector<CodeError> CrossValidatedCodeErrors(const std::vector<MultiViewSample>& samples,
+                                                const std::vector<double>& prior,
+                                                const MultiViewOptions& options) {
+  std::array<std::vector<MultiViewSample>, 2> half;  // even and odd samples
+  for (size_t j = 0; j < samples.size(); ++j) half[j % 2].push_back(samples[j]);
+  const int candidates = static_cast<int>(options.response_prior_candidates.size());
+  struct Sums {
+    double sum = 0, sum2 = 0;
+    long count = 0;
+    bool failed = false;
+  };
+  std::vector<Sums> sums(2 * candidates);  // per candidate and test half
+  cv::parallel_for_(cv::Range(0, 2 * candidates), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k) {
+      MultiViewOptions single = options;
+      single.response_prior_candidates.clear();
+      single.response_prior = options.response_prior_candidates[k / 2];
+      // Two robust rounds: the first ones drop the outliers; the last ones move the fit
+      // little and would multiply the cost.
+      single.robust_rounds = std::min(single.robust_rounds, 2);
+      const int test = k % 2;
+      try {
+        const MultiViewCalibration fit = CalibrateMultiView(half[1 - test], prior, single);
+        AddCodeError(fit, half[test], options.clip_margin, sums[k].sum, sums[k].sum2,
+                     sums[k].count);
+      } catch (const UsageError&) {
+        sums[k].failed = true;
+      }
+    }
+  });
+  std::vector<CodeError> errors(candidates);
+  for (int c = 0; c < candidates; ++c) {
+    const Sums& a = sums[2 * c];
+    const Sums& b = sums[2 * c + 1];
+    const long count = a.count + b.count;
+    if (a.failed || b.failed || count < 2) continue;
+    const double mean = (a.sum + b.sum) / count;
+    const double variance = std::max(0.0, (a.sum2 + b.sum2 - count * mean * mean) / (count - 1.0));
+    errors[c] = {mean, std::sqrt(variance / count)};
+  }
+  return errors;
+}
+
 }  // namespace
 
 MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samples,
                                         const std::vector<double>& prior_log_exposure,
                                         const MultiViewOptions& options) {
   ValidateOptions(options);
+  if (options.response_prior_candidates.size() >= 2) {
+    MultiViewOptions single = options;
+    single.response_prior_candidates.clear();
+    const std::vector<CodeError> errors =
+        CrossValidatedCodeErrors(samples, prior_log_exposure, options);
+    CodeError lowest;
+    for (const CodeError& e : errors) {
+      if (e.mean < lowest.mean) lowest = e;
+    }
+    // The weakest prior within one standard error of the lowest error (the one-standard-error
+    // rule, Hastie, Tibshirani & Friedman, The Elements of Statistical Learning, 7.10): the
+    // prior pulls toward sRGB only as far as the data show a gain.
+    single.response_prior = options.response_prior;  // when no candidate calibrates the halves
+    double weakest = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < errors.size(); ++k) {
+      const double candidate = options.response_prior_candidates[k];
+      if (errors[k].mean <= lowest.mean + lowest.standard_error && candidate < weakest) {
+        weakest = candidate;
+        single.response_prior = candidate;
+      }
+    }
+    MultiViewCalibration result = CalibrateMultiView(samples, prior_log_exposure, single);
+    for (const CodeError& e : errors) result.stats.prior_code_error.push_back(e.mean);
+    return result;
+  }
   const int photos = PhotoCount(samples, prior_log_exposure);
   if (photos < 2) {
     throw UsageError("multi-view calibration needs observations from at least two photos");
@@ -435,6 +656,18 @@ MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samp
   }
   if (!gauge.prior_photos.empty()) gauge.mean_prior /= gauge.prior_photos.size();
   gauge.exponent_from_prior = gauge.prior_photos.size() >= 2 && hi - lo >= kMinPriorSpread;
+  if (options.per_channel_exposure) {
+    MultiViewOptions scalar_options = options;
+    scalar_options.per_channel_exposure = false;
+    const MultiViewCalibration scalar =
+        CalibrateMultiView(samples, prior_log_exposure, scalar_options);
+    double mean = 0;
+    for (int i = 0; i < photos; ++i) mean += solvable[i] ? scalar.log_exposure[i] / solved : 0.0;
+    gauge.scalar_log_exposure.assign(photos, 0.0);
+    for (int i = 0; i < photos; ++i) {
+      if (solvable[i]) gauge.scalar_log_exposure[i] = scalar.log_exposure[i] - mean;
+    }
+  }
 
   const Solver solver(groups, prior, slot, solved, options, gauge);
   std::vector<double> robust(groups.photo.size(), 1.0);
@@ -442,6 +675,7 @@ MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samp
   Eigen::VectorXd x;
   MultiViewStats stats;
   stats.exponent_from_prior = gauge.exponent_from_prior;
+  stats.response_prior = options.response_prior;
   SolveRound(solver, gauge, prior, robust, /*first=*/true, span, x, stats.iterations);
   std::vector<double> r = Residuals(groups, solver, robust, x);
   for (int round = 0; round < options.robust_rounds; ++round) {
@@ -466,14 +700,17 @@ MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samp
     stats.monotone_fixes[c] = MakeMonotone(g);
   }
   result.log_exposure.assign(photos, 0.0);
+  result.channel_log_exposure.assign(photos, {0.0, 0.0, 0.0});
   result.calibrated.assign(photos, false);
   result.photo_observations.assign(photos, 0);
+  result.photo_residual_rms.assign(photos, 0.0);
   double mean_solved = 0;
   double solved_lo = std::numeric_limits<double>::infinity(), solved_hi = -solved_lo;
   for (int i = 0; i < photos; ++i) {
     if (slot[i] < 0) continue;
-    const double t = x(solver.TimeVar(i));
+    const double t = solver.MeanTime(x, i);
     result.log_exposure[i] = t;
+    for (int c = 0; c < 3; ++c) result.channel_log_exposure[i][c] = x(solver.TimeVar(i, c));
     result.calibrated[i] = true;
     mean_solved += t / solved;
     solved_lo = std::min(solved_lo, t);
@@ -485,9 +722,13 @@ MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samp
         "exposure prior tells them apart: the observations cannot constrain a response curve");
   }
   for (int i = 0; i < photos; ++i) {
-    if (slot[i] < 0) result.log_exposure[i] = std::isfinite(prior[i]) ? prior[i] : mean_solved;
+    if (slot[i] < 0) {
+      result.log_exposure[i] = std::isfinite(prior[i]) ? prior[i] : mean_solved;
+      result.channel_log_exposure[i].fill(result.log_exposure[i]);
+    }
   }
   double sum_a = 0, sum_ar2 = 0;
+  std::vector<double> photo_a(photos, 0.0), photo_ar2(photos, 0.0);
   for (size_t o = 0; o < r.size(); ++o) {
     ++result.photo_observations[groups.photo[o]];
     if (robust[o] <= 0) {
@@ -497,6 +738,11 @@ MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samp
     const double w = HatWeight(groups.z[o]);
     sum_a += w * w;
     sum_ar2 += w * w * r[o] * r[o];
+    photo_a[groups.photo[o]] += w * w;
+    photo_ar2[groups.photo[o]] += w * w * r[o] * r[o];
+  }
+  for (int i = 0; i < photos; ++i) {
+    result.photo_residual_rms[i] = photo_a[i] > 0 ? std::sqrt(photo_ar2[i] / photo_a[i]) : 0.0;
   }
   stats.observations_used = static_cast<int>(r.size());
   stats.residual_rms = sum_a > 0 ? std::sqrt(sum_ar2 / sum_a) : 0.0;

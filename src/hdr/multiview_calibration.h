@@ -56,6 +56,25 @@ struct MultiViewOptions {
   // taking the mean over channels of g(192) - g(64) as this value (natural log; the default
   // is sRGB's, about 2.33).
   double assumed_log_span = 0.0;  // 0 = sRGB's value
+  // Weight of a prior on the response's slope: response_prior w(k)^2 [g_c(k + 1) - g_c(k) -
+  // s (r(k + 1) - r(k))]^2 for codes 1..253, r = ln of sRGB's decoding (IEC 61966-2-1) and s
+  // the exponent the gauge sets (the mean g(192) - g(64) over sRGB's). The data alone bend g
+  // flat where photos of nearly equal exposure disagree by noise or misregistration (the
+  // flatter g, the smaller the log residual); 0 = no prior.
+  double response_prior = 0.0;
+  // Candidates for response_prior, chosen by two-fold cross-validation over the samples (even
+  // and odd): each is fitted on one half and scored on the other by the mean |z - z'| (DN) of
+  // every observation z against z' = g^-1(ln E + ln t), ln E from the sample's other
+  // observations: the error of re-exposing one photo's values from the others'. Fewer than two
+  // candidates: response_prior is used as given.
+  std::vector<double> response_prior_candidates = {0.0, 1e2, 1e3, 1e4, 1e5, 1e6};
+  // One log exposure per photo and channel (a per-shot white balance) instead of one per
+  // photo: ln t_ic, with the mean over channels held to the photo's prior, each channel's
+  // offset from that mean held to 0 with standard deviation channel_sigma (natural log), and
+  // the offsets held orthogonal to the exposures of a first solve with one exposure per photo
+  // (offsets growing with the exposure are an exponent per channel, which the data leave free).
+  bool per_channel_exposure = false;
+  double channel_sigma = 0.05;  // see per_channel_exposure
 };
 
 // Counts and figures of a multi-view calibration.
@@ -69,6 +88,10 @@ struct MultiViewStats {
   int iterations = 0;                   // least-squares solves
   bool exponent_from_prior = false;     // false: fixed by assumed_log_span (no prior ratios)
   std::array<int, 3> monotone_fixes{};  // entries clamped to keep g non-decreasing
+  double response_prior = 0.0;          // the response prior's weight used
+  // Per candidate of MultiViewOptions::response_prior_candidates: its cross-validated mean
+  // re-exposure error (DN), infinity where a half could not be calibrated; empty without.
+  std::vector<double> prior_code_error;
 };
 
 // Result of CalibrateMultiView.
@@ -78,11 +101,16 @@ struct MultiViewCalibration {
   // exists, else with mean 0 over the calibrated photos) and exp() of it.
   std::vector<double> log_exposure;
   std::vector<double> relative_exposure;
+  // Per photo and channel (BGR): ln t_ic; the three equal log_exposure without
+  // per_channel_exposure. Their mean over the channels is log_exposure.
+  std::vector<std::array<double, 3>> channel_log_exposure;
   // Per photo: true when its exposure was solved from observations; false for a photo outside
   // the largest set of photos linked by shared scene points (e.g. one with no usable
   // observation), which keeps its prior or, without one, the calibrated photos' mean.
   std::vector<bool> calibrated;
   std::vector<int> photo_observations;  // channel observations per photo (before the trim)
+  // Per photo: RMS of its kept observations' residuals (natural log, w(z)-weighted); 0 without.
+  std::vector<double> photo_residual_rms;
   MultiViewStats stats;
 };
 
@@ -96,9 +124,10 @@ struct MultiViewCalibration {
 // and each photo's prior weighs as prior_sigma says. Otherwise the exposures have mean 0 (or
 // the priors' mean) and the exponent comes from assumed_log_span. Photos are indices 0 ..
 // prior size - 1 (up to the largest index observed when the prior is empty). Observations are
-// reweighted robustly (MultiViewOptions). Throws UsageError when the observations cannot
-// constrain a curve (fewer than two photos, no point well exposed in two photos, photos all
-// exposed alike without a prior telling them apart). Never NaN.
+// reweighted robustly; the weight of the prior on the response's slope is chosen by
+// cross-validation among MultiViewOptions::response_prior_candidates. Throws UsageError when
+// the observations cannot constrain a curve (fewer than two photos, no point well exposed in
+// two photos, photos all exposed alike without a prior telling them apart). Never NaN.
 MultiViewCalibration CalibrateMultiView(const std::vector<MultiViewSample>& samples,
                                         const std::vector<double>& prior_log_exposure,
                                         const MultiViewOptions& options = {});
