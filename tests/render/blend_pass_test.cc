@@ -343,8 +343,7 @@ TEST_F(BlendPassTest, FilteredBlending) {
     EXPECT_EQ(cv::countNonZero(a.valid != b.valid), 0);
     const cv::Mat diff = cv::abs(a.color - b.color);
     double max_diff = 0.0;
-    cv::minMaxLoc(diff.reshape(1), nullptr, &max_diff, nullptr, nullptr,
-                  cv::repeat(a.valid, 1, 3));
+    cv::minMaxLoc(diff.reshape(1), nullptr, &max_diff, nullptr, nullptr, cv::repeat(a.valid, 1, 3));
     EXPECT_LT(max_diff, 0.02) << "photo " << photo << " at its own viewpoint";
 
     sharp.SetActivePhotos(SameSeriesExcept(photo));
