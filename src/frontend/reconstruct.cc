@@ -281,6 +281,28 @@ void RunSeries(Context& ctx) {
   }
 }
 
+// Fewest points the attribute stage (kNN normals and radii) can work with.
+constexpr size_t kMinPoints = 16;
+
+// The sparse model's points, each oriented toward the photos of its track.
+DenseResult SparseCloud(const ColmapModel& model) {
+  DenseResult dense;
+  std::map<int, Eigen::Vector3d> centers;
+  for (const auto& [id, im] : model.images) centers[id] = im.cam_from_world.Inverse().translation;
+  for (const auto& [pid, pt] : model.points3d) {
+    Eigen::Vector3d dir = Eigen::Vector3d::Zero();
+    for (const auto& el : pt.track) {
+      auto it = centers.find(el.image_id);
+      if (it != centers.end()) dir += (it->second - pt.xyz).normalized();
+    }
+    dense.cloud.positions.push_back(pt.xyz.cast<float>());
+    dense.cloud.colors.push_back(pt.color);
+    dense.view_dirs.push_back(dir.norm() > 0 ? Eigen::Vector3f(dir.normalized().cast<float>())
+                                             : Eigen::Vector3f::Zero());
+  }
+  return dense;
+}
+
 void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) {
   const ColmapModel model = ReadColmapModel(ctx.opt.workspace / "sparse");
   std::string mode = ctx.opt.dense;
@@ -316,27 +338,27 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
       centers.push_back(im.cam_from_world.Inverse().translation);
     dense.view_dirs = ViewDirsFromCameras(dense.cloud, centers);
   } else if (mode == "none") {
-    // Sparse points, oriented toward the photos of their tracks.
-    std::map<int, Eigen::Vector3d> centers;
-    for (const auto& [id, im] : model.images) centers[id] = im.cam_from_world.Inverse().translation;
-    for (const auto& [pid, pt] : model.points3d) {
-      Eigen::Vector3d dir = Eigen::Vector3d::Zero();
-      for (const auto& el : pt.track) {
-        auto it = centers.find(el.image_id);
-        if (it != centers.end()) dir += (it->second - pt.xyz).normalized();
-      }
-      dense.cloud.positions.push_back(pt.xyz.cast<float>());
-      dense.cloud.colors.push_back(pt.color);
-      dense.view_dirs.push_back(dir.norm() > 0 ? Eigen::Vector3f(dir.normalized().cast<float>())
-                                               : Eigen::Vector3f::Zero());
-    }
+    dense = SparseCloud(model);
   } else {
     throw OptionError("dense", "must be auto, cpu, sweep, colmap or none, got '" + mode + "'");
   }
   report.times.push_back({"dense." + mode, Seconds(t0)});
-  if (dense.cloud.size() < 16) {
-    throw std::runtime_error("dense stage produced only " + std::to_string(dense.cloud.size()) +
-                             " points; photos may lack texture or overlap");
+  const size_t dense_points = dense.cloud.size();
+  if (mode != "none" && dense_points < model.points3d.size()) {
+    // Multi-view stereo found (almost) nothing, e.g. on textureless walls: the sparse points
+    // still place what they can, and the background shows the rest.
+    spdlog::warn(
+        "dense stage ({}) found only {} points, fewer than the {} sparse points (photos may lack "
+        "texture or overlap): the workspace keeps the sparse points",
+        mode, dense_points, model.points3d.size());
+    dense = SparseCloud(model);
+  }
+  if (dense.cloud.size() < kMinPoints) {
+    throw std::runtime_error("the dense stage found " + std::to_string(dense_points) +
+                             " points and the sparse model has " +
+                             std::to_string(model.points3d.size()) + ", fewer than the " +
+                             std::to_string(kMinPoints) +
+                             " a workspace needs; photos may lack texture or overlap");
   }
   t0 = Clock::now();
   AttributeOptions ao = ctx.opt.attribute_options;

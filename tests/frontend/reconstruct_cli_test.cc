@@ -7,6 +7,8 @@
 #include <pcl/point_types.h>
 
 #include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "eval/alignment.h"
 #include "io/colmap_model.h"
@@ -157,6 +159,35 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
                                       " " + ws.string() + " 2>&1");
   EXPECT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("dense: done before, skipped"), std::string::npos) << again.output;
+
+  // Multi-view stereo that keeps nothing (no depth reaches an NCC of 1): the workspace keeps
+  // the sparse points, says so, and renders them with the background.
+  const fs::path bare = dir / "ws_bare";
+  fs::copy(ws, bare, fs::copy_options::recursive);
+  fs::remove(bare / "logs/dense.done");
+  const auto none = test::RunCommand(Exe() + " reconstruct " + (dir / "cap/photos").string() + " " +
+                                     bare.string() + " --dense-size 300 --dense-min-ncc 1 2>&1");
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_NE(none.output.find("the workspace keeps the sparse points"), std::string::npos)
+      << none.output;
+  const size_t sparse_points = rec.points3d.size();
+  const PointCloud kept = ReadPly(bare / "points.ply");
+  std::cout << "no dense points: " << kept.size() << " of " << sparse_points
+            << " sparse points kept\n";
+  EXPECT_GT(kept.size(), sparse_points / 2);
+  EXPECT_LE(kept.size(), sparse_points);
+  const fs::path png = dir / "bare.png";
+  const auto render =
+      test::RunCommand(Exe() + " render " + bare.string() + " --camera " +
+                       rec.images.begin()->second.name + " --out " + png.string() + " 2>&1");
+  ASSERT_EQ(render.exit_code, 0) << render.output;
+  const cv::Mat rgba = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(rgba.channels(), 4);
+  std::vector<cv::Mat> ch;
+  cv::split(rgba, ch);
+  const double valid = cv::countNonZero(ch[3]) / static_cast<double>(rgba.total());
+  std::cout << "render of the sparse workspace: " << valid * 100 << "% of the frame\n";
+  EXPECT_GT(valid, 0.9);  // the sparse points' splats and the background sphere
 }
 
 TEST(ReconstructCli, MonstreeRegistersMostPhotos) {
