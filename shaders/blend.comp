@@ -51,7 +51,7 @@ layout(location = 8) uniform int u_debug_photo;
 layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (world), radius
 
 // Modes, fixed per program (BlendPass::ProgramFor): llvmpipe pays for both sides of a branch on
-// a uniform, and these halve the pass's cost as constants.
+// a uniform, so they are constants here (docs/algorithms.md, "Modes compiled per program").
 #ifndef ENCODING
 #define ENCODING 0  // 0 display, 1 radiance
 #endif

@@ -38,7 +38,7 @@ inline constexpr float kMaxFilter = 0.5f;
 
 // What the blend shows where the depth pass found no point (sky, distant ground, gaps).
 // Either surface is seen by a photo where the photo's own depth map has no point either.
-// The values are u_background of shaders/blend.comp.
+// The values are BACKGROUND of shaders/blend.comp.
 enum class Background {
   kNone = 0,      // nothing: the pixel stays invalid (the paper)
   kInfinity = 1,  // a surface at infinity: each photo's pixel in the ray's direction

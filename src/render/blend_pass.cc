@@ -21,6 +21,11 @@ struct PhotoGpu {
 };
 static_assert(sizeof(PhotoGpu) == 40 * 4);
 
+// True when the blend low-passes its photos (filtered blending; never for the nearest photo).
+bool Filtered(const BlendOptions& options) {
+  return options.mode != BlendMode::kNearestPhoto && options.filter > 0.0f;
+}
+
 // The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
 // the per-pixel list, `sum_all` for eq. 5 over every photo, `cached` / `cached_depth` when the
 // photos / their depth maps are in a PhotoCache.
@@ -36,7 +41,7 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, bo
                        {"SOFT_VISIBILITY", options.visibility == Visibility::kSoft ? "1" : "0"},
                        {"CACHED", cached ? "1" : "0"},
                        {"CACHED_DEPTH", cached_depth ? "1" : "0"}};
-  if (!nearest && options.filter > 0.0f) modes.emplace_back("FILTERED", "1");
+  if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
 }
 
@@ -195,7 +200,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1f(p, 7, inv_scene_scale_);
   glProgramUniform1i(p, 8, options.debug_photo);
   glProgramUniform4fv(p, 13, 1, sphere_);
-  if (!nearest && options.filter > 0.0f) glProgramUniform1f(p, 17, options.filter);
+  if (Filtered(options)) glProgramUniform1f(p, 17, options.filter);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
