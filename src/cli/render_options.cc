@@ -132,8 +132,10 @@ const FlagNames& RendererFlags() {
 }
 
 void CheckBlendOptions(const render::BlendOptions& blend) {
-  static const FlagNames kFlags = {
-      {"k_best", "--k-best"}, {"lambda", "--lambda"}, {"occlusion_tolerance", "--tolerance"}};
+  static const FlagNames kFlags = {{"k_best", "--k-best"},
+                                   {"lambda", "--lambda"},
+                                   {"occlusion_tolerance", "--tolerance"},
+                                   {"filter", "--filter"}};
   RunNamingFlags(kFlags, [&] {
     render::ValidateBlendOptions(blend);
     return 0;
