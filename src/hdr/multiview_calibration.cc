@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "hdr/re_expose.h"
 
 namespace hdribr {
 namespace {
@@ -493,16 +494,6 @@ void SolveRound(const Solver& solver, const Gauge& gauge, const std::vector<doub
   }
 }
 
-// The code z (continuous) with g(z) = v on a non-decreasing curve, linear between codes and
-// clamped to [0, 255].
-double CodeOf(const std::vector<double>& g, double v) {
-  if (!(v > g.front())) return 0.0;
-  if (!(v < g.back())) return kLevels - 1.0;
-  const int hi = static_cast<int>(std::upper_bound(g.begin(), g.end(), v) - g.begin());
-  const double span = g[hi] - g[hi - 1];
-  return hi - 1 + (span > 0 ? (v - g[hi - 1]) / span : 0.0);
-}
-
 // Mean |z - g^-1(ln E + ln t)| (DN) over the observations of `samples` from calibrated photos
 // with values in (margin, 255 - margin), ln E the w(z)^2-weighted mean of g(z) - ln t over the
 // sample's other such observations in the channel. Adds the errors and their squares to `sum`
@@ -529,7 +520,7 @@ void AddCodeError(const MultiViewCalibration& fit, const std::vector<MultiViewSa
         const double a = HatWeight(z) * HatWeight(z);
         if (!(total - a > 0)) continue;
         const double log_e = (weighted - a * (g[z] - log_t)) / (total - a);
-        const double e = std::abs(CodeOf(g, log_e + log_t) - z);
+        const double e = std::abs(CodeOfLog(g, log_e + log_t) - z);
         sum += e;
         sum2 += e * e;
         ++count;

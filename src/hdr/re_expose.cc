@@ -7,6 +7,17 @@
 
 namespace hdribr {
 
+double CodeOfLog(const std::vector<double>& g, double log_value) {
+  if (std::isnan(log_value)) return 0.0;
+  // First code whose g exceeds the value; interpolate with the one below.
+  const auto it = std::upper_bound(g.begin(), g.end(), log_value);
+  if (it == g.begin()) return 0.0;
+  if (it == g.end()) return static_cast<double>(g.size() - 1);
+  const size_t hi = static_cast<size_t>(it - g.begin());
+  const double g0 = g[hi - 1], g1 = g[hi];
+  return static_cast<double>(hi - 1) + (g1 > g0 ? (log_value - g0) / (g1 - g0) : 0.0);
+}
+
 cv::Mat ExposeThroughResponse(const cv::Mat& radiance, const ResponseCurve& response,
                               double exposure) {
   HDRIBR_CHECK(radiance.type() == CV_32FC3 && response.IsValid() && exposure > 0);
@@ -23,19 +34,7 @@ cv::Mat ExposeThroughResponse(const cv::Mat& radiance, const ResponseCurve& resp
           z[x][c] = 0;
           continue;
         }
-        const double target = std::log(v) + log_exposure;
-        // First code whose g exceeds the target; interpolate with the one below.
-        const auto it = std::upper_bound(g.begin(), g.end(), target);
-        double code = 0;
-        if (it == g.begin()) {
-          code = 0;
-        } else if (it == g.end()) {
-          code = 255;
-        } else {
-          const int hi = static_cast<int>(it - g.begin());
-          const double g0 = g[static_cast<size_t>(hi - 1)], g1 = g[static_cast<size_t>(hi)];
-          code = hi - 1 + (g1 > g0 ? (target - g0) / (g1 - g0) : 0.0);
-        }
+        const double code = CodeOfLog(g, std::log(v) + log_exposure);
         z[x][c] = static_cast<std::uint8_t>(std::clamp(std::lround(code), 0L, 255L));
       }
     }

@@ -3,10 +3,15 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "hdr/response_curve.h"
 
 namespace hdribr {
+
+// The code z (continuous) with g(z) = log_value on a non-decreasing curve g (one channel of
+// ResponseCurve::log_inverse), linear between codes and clamped to [0, 255]; 0 for NaN.
+double CodeOfLog(const std::vector<double>& g, double log_value);
 
 // 8-bit BGR image of CV_32FC3 BGR radiance E exposed for `exposure` (in the units the response
 // and the radiance share, e.g. a relative exposure): per channel z with g(z) = ln(E exposure),
