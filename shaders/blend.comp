@@ -23,7 +23,8 @@ struct PhotoGpu {
 };
 layout(std430, binding = 0) readonly buffer Photos { PhotoGpu photos[]; };
 layout(std430, binding = 1) readonly buffer Active { int active_photos[]; };
-// CACHED: photo i's layer in u_photos, -1 when only its coarse copy is resident.
+// CACHED: photo i's slot, t << 24 | layer (layer of u_photos for t = 0, of u_tier1 / u_tier2
+// for t = 1 / 2), -1 when only its coarse copy is resident.
 layout(std430, binding = 2) readonly buffer SlotMap { int slot_of[]; };
 // CACHED_DEPTH: photo i's layer in u_photo_depth, -1 when its depth map is not resident.
 layout(std430, binding = 3) readonly buffer DepthSlotMap { int depth_slot_of[]; };
@@ -36,6 +37,8 @@ layout(binding = 3) uniform sampler2DArray u_photo_depth; // layer i = photo i's
                                                           // (CACHED_DEPTH: depth_slot_of[i])
 layout(binding = 4) uniform sampler2D u_response;        // 256 x 1: g(Z) per channel (RGB)
 layout(binding = 5) uniform sampler2DArray u_coarse;     // CACHED: layer i = photo i, coarse
+layout(binding = 6) uniform sampler2DArray u_tier1;      // CACHED: slots of mip levels 1...
+layout(binding = 7) uniform sampler2DArray u_tier2;      // CACHED: slots of mip levels 2...
 
 layout(binding = 0, rgba32f) writeonly uniform image2D u_out_color;
 layout(binding = 1, rgba32f) writeonly uniform image2D u_out_aux;
@@ -78,6 +81,15 @@ layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (worl
 // slots, u_coarse a coarse copy of every photo; 0: u_photos holds every photo.
 #ifndef CACHED
 #define CACHED 0
+#endif
+// CACHED: the slot sizes in use, 1 (full size) to 3 (also 1/2 and 1/4 of it).
+#ifndef TIERS
+#define TIERS 1
+#endif
+#if CACHED == 1
+// Per photo, the finest mip level sampled (atomicMin; the cache clears it before the frame
+// and places photos from it: PhotoCache::Request).
+layout(std430, binding = 4) coherent buffer Feedback { int sampled_level[]; };
 #endif
 // 1: u_photo_depth holds the depth maps of the cache's depth slots (depth_slot_of).
 #ifndef CACHED_DEPTH
@@ -225,9 +237,22 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
 }
 
 // Photo i's stored value at uvl (texture coordinate, level of detail).
+// A slot of 1 / 2^t of the full size holds levels t and coarser at the same texture
+// coordinates: sampled at level of detail lod - t, it returns the full array's texels.
 vec3 FetchPhoto(int i, vec3 uvl) {
   if (CACHED == 0) return textureLod(u_photos, vec3(uvl.xy, float(i)), uvl.z).rgb;
-  if (slot_of[i] >= 0) return textureLod(u_photos, vec3(uvl.xy, float(slot_of[i])), uvl.z).rgb;
+#if CACHED == 1
+  int level = int(max(uvl.z, 0.0));  // trilinear reads this level and the next
+  if (sampled_level[i] > level) atomicMin(sampled_level[i], level);
+#endif
+  int slot = slot_of[i];
+  if (slot >= 0) {
+    int tier = slot >> 24;
+    vec3 at = vec3(uvl.xy, float(slot & 0xffffff));
+    if (TIERS == 1 || tier == 0) return textureLod(u_photos, at, uvl.z).rgb;
+    if (TIERS == 2 || tier == 1) return textureLod(u_tier1, at, uvl.z - 1.0).rgb;
+    return textureLod(u_tier2, at, uvl.z - 2.0).rgb;
+  }
   vec4 co = photos[i].coarse;
   return textureLod(u_coarse, vec3(min(uvl.xy * co.xy, co.zw), float(i)), uvl.z + photos[i].size.w)
       .rgb;

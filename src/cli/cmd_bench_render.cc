@@ -7,11 +7,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cli/bench_cloud.h"
@@ -91,7 +93,8 @@ Scene MakeScene(int count, int pw, int ph, const PointCloud& cloud, std::vector<
         LookAt({4.0 * std::cos(a), height, 4.0 * std::sin(a)}, {0, -0.3, 0}, {0, -1, 0});
     scene.photos.push_back(photo);
     cv::Mat img(ph, pw, CV_8UC3);
-    cv::randu(img, cv::Scalar(0, 0, 0), cv::Scalar(255, 255, 255));
+    cv::RNG rng(static_cast<uint64_t>(i) + 1);  // the same pixels for every budget
+    rng.fill(img, cv::RNG::UNIFORM, cv::Scalar::all(0), cv::Scalar::all(255));
     cv::GaussianBlur(img, img, cv::Size(0, 0), 2.0);
     images.push_back(img);
   }
@@ -121,9 +124,12 @@ int Run(const BenchRenderOptions& opt) {
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
   FILE* table = TableStream(opt.json);
-  std::fprintf(table, "%-10s %6s %5s %5s %5s %7s %10s %10s %10s %10s %10s %8s %8s %15s\n", "size",
-               "photos", "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "total_ms",
-               "first_ms", "wall_ms", "valid%", "psnr_all", "resident/MiB");
+  std::fprintf(table, "%-10s %6s %5s %5s %5s %7s %10s %10s %10s %10s %10s %8s %8s %15s %8s\n",
+               "size", "photos", "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "total_ms",
+               "first_ms", "wall_ms", "valid%", "psnr_all", "resident/MiB", "psnr_res");
+  // Per photo count, size, K and cap: the colour of the render with every photo resident, to
+  // which a cached budget's render is compared (PSNR, 8-bit scale; "same" when identical).
+  std::map<std::tuple<int, int, int, int, int>, cv::Mat> all_resident;
   for (int count : photo_counts) {
     for (double budget : budgets) {
       std::vector<cv::Mat> images;
@@ -183,15 +189,30 @@ int Run(const BenchRenderOptions& opt) {
             std::snprintf(size_text, sizeof(size_text), "%dx%d", w, h);
             if (psnr_all >= 0) std::snprintf(psnr_text, sizeof(psnr_text), "%.2f", psnr_all);
             const render::PhotoResidency res = renderer.residency();
+            const auto key = std::make_tuple(count, w, h, k, cap);
+            double diff_resident = -1, psnr_resident = -1;
+            if (!res.cached) {
+              all_resident[key] = im.color.clone();
+            } else if (all_resident.count(key)) {
+              diff_resident = 255.0 * cv::norm(im.color, all_resident[key], cv::NORM_INF);
+              psnr_resident = cv::PSNR(im.color * 255.0, all_resident[key] * 255.0, 255.0);
+            }
+            char diff_text[32] = "-";
+            if (diff_resident == 0) {
+              std::snprintf(diff_text, sizeof(diff_text), "same");
+            } else if (diff_resident > 0) {
+              std::snprintf(diff_text, sizeof(diff_text), "%.2f", psnr_resident);
+            }
             char resident_text[48];
             std::snprintf(resident_text, sizeof(resident_text), "%.1f/%.1f",
                           res.resident_bytes / 1048576.0, res.total_bytes / 1048576.0);
             std::fprintf(
                 table,
-                "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %10.1f %10.1f %10.1f %8.1f %8s %15s\n",
+                "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %10.1f %10.1f %10.1f %8.1f %8s %15s "
+                "%8s\n",
                 size_text, count, k == 0 || k >= count ? "all" : std::to_string(k).c_str(),
                 cap == 0 ? "all" : std::to_string(cap).c_str(), used, select_ms, depth_ms, blend_ms,
-                depth_ms + blend_ms, first_ms, wall_ms, valid, psnr_text, resident_text);
+                depth_ms + blend_ms, first_ms, wall_ms, valid, psnr_text, resident_text, diff_text);
             std::fflush(table);
             results.push_back(
                 {{"width", w},
@@ -217,6 +238,13 @@ int Run(const BenchRenderOptions& opt) {
                  {"resident_mib", res.resident_bytes / 1048576.0},
                  {"total_mib", res.total_bytes / 1048576.0},
                  {"full_size_slots", res.slots},
+                 {"reduced_slots", res.reduced_slots},
+                 {"reduced_photos", res.reduced},
+                 {"full_size_photos", res.full_size},
+                 {"max_diff_vs_all_resident",
+                  diff_resident < 0 ? nlohmann::json() : nlohmann::json(diff_resident)},
+                 {"psnr_vs_all_resident",
+                  diff_resident <= 0 ? nlohmann::json() : nlohmann::json(psnr_resident)},
                  {"gpu_bytes", res.resident_bytes}});
           }
         }

@@ -68,11 +68,17 @@ nlohmann::json GpuReport(const Scene& scene, int max_photo_size, double gpu_memo
   ro.gpu_memory_mb = gpu_memory_mb;
   const render::Renderer renderer(shaders, scene, ro);
   const render::PhotoResidency r = renderer.residency();
-  return {{"gpu_bytes", r.resident_bytes}, {"resident_bytes", r.resident_bytes},
-          {"total_bytes", r.total_bytes},  {"budget_bytes", r.budget_bytes},
-          {"depth_bytes", r.depth_bytes},  {"cached", r.cached},
-          {"full_size_slots", r.slots},    {"fallback_divisor", r.fallback_divisor},
-          {"depth_slots", r.depth_slots},  {"max_photo_size", max_photo_size},
+  return {{"gpu_bytes", r.resident_bytes},
+          {"resident_bytes", r.resident_bytes},
+          {"total_bytes", r.total_bytes},
+          {"budget_bytes", r.budget_bytes},
+          {"depth_bytes", r.depth_bytes},
+          {"cached", r.cached},
+          {"full_size_slots", r.slots},
+          {"reduced_slots", r.reduced_slots},
+          {"fallback_divisor", r.fallback_divisor},
+          {"depth_slots", r.depth_slots},
+          {"max_photo_size", max_photo_size},
           {"renderer", context.Renderer()}};
 }
 
@@ -161,9 +167,11 @@ int Run(const InspectOptions& opt) {
         const int depth_slots = gpu["depth_slots"].get<int>();
         const std::string depth =
             depth_slots > 0 ? std::to_string(depth_slots) + " slots" : "all resident";
-        std::printf("photo cache  %d full-size slots, coarse copies at 1/%d size, depth maps %s\n",
-                    gpu["full_size_slots"].get<int>(), gpu["fallback_divisor"].get<int>(),
-                    depth.c_str());
+        std::printf(
+            "photo cache  %d full-size slots, %d reduced slots (mip levels 1 or 2 on), coarse "
+            "copies at 1/%d size, depth maps %s\n",
+            gpu["full_size_slots"].get<int>(), gpu["reduced_slots"].get<int>(),
+            gpu["fallback_divisor"].get<int>(), depth.c_str());
       }
     }
     std::printf("problems     %zu\n", problems.size());

@@ -27,9 +27,9 @@ bool Filtered(const BlendOptions& options) {
 }
 
 // The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
-// the per-pixel list, `sum_all` for eq. 5 over every photo, `cached` / `cached_depth` when the
-// photos / their depth maps are in a PhotoCache.
-gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, bool cached,
+// the per-pixel list, `sum_all` for eq. 5 over every photo, `tiers` the slot sizes of the
+// PhotoCache holding the photos (0: none), `cached_depth` when it holds their depth maps.
+gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, int tiers,
                          bool cached_depth) {
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   gl::Defines modes = {{"KEEP", std::to_string(keep)},
@@ -39,7 +39,8 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, bo
                        {"SUM_ALL", sum_all ? "1" : "0"},
                        {"BACKGROUND", std::to_string(static_cast<int>(options.background))},
                        {"SOFT_VISIBILITY", options.visibility == Visibility::kSoft ? "1" : "0"},
-                       {"CACHED", cached ? "1" : "0"},
+                       {"CACHED", tiers > 0 ? "1" : "0"},
+                       {"TIERS", std::to_string(std::max(tiers, 1))},
                        {"CACHED_DEPTH", cached_depth ? "1" : "0"}};
   if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
@@ -67,7 +68,7 @@ Eigen::Vector4d BackgroundSphere(const Scene& scene) {
 
 BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
   // The default's, so that compile errors show early.
-  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, false, false));
+  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, 0, false));
 }
 
 const gl::Program& BlendPass::ProgramFor(const gl::Defines& modes) const {
@@ -186,7 +187,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
   const bool sum_all = k_best <= 0 && !(ulr && !nearest);
   const gl::Program& program =
-      ProgramFor(ProgramModes(options, keep, sum_all, cache_ != nullptr, cached_depth_));
+      ProgramFor(ProgramModes(options, keep, sum_all, cache_ ? cache_->tiers() : 0, cached_depth_));
   const GLuint p = program.id();
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
   glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
@@ -208,12 +209,15 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, cache_ ? cache_->slot_map() : active_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3,
                    cached_depth_ ? cache_->depth_slot_map() : active_.id());
+  if (cache_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, cache_->feedback());
   glBindTextureUnit(0, depth.depth.id());
   glBindTextureUnit(1, depth.normal.id());
-  glBindTextureUnit(2, photo_texture_);
+  glBindTextureUnit(2, cache_ ? cache_->slots_texture() : photo_texture_);
   glBindTextureUnit(3, depth_maps_);
   glBindTextureUnit(4, response ? response->id() : 0);
   glBindTextureUnit(5, cache_ ? cache_->fallback_texture() : 0);
+  glBindTextureUnit(6, cache_ ? cache_->tier_texture(1) : 0);
+  glBindTextureUnit(7, cache_ ? cache_->tier_texture(2) : 0);
   glBindImageTexture(0, color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, aux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glDispatchCompute(static_cast<GLuint>((depth.width() + 7) / 8),

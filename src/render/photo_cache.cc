@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -65,12 +66,21 @@ std::string Mib(size_t bytes) {
 
 namespace {
 
+// The layout of the slots of 1 / 2^t of the full size: the full array's levels t and coarser.
+PhotoLayout TierLayout(const PhotoLayout& full, int t) {
+  PhotoLayout r;
+  r.is_float = full.is_float;
+  r.width = std::max(1, full.width >> t);
+  r.height = std::max(1, full.height >> t);
+  r.levels = full.levels - t;
+  return r;
+}
+
 // The plan with every depth map resident (depth_slots 0) or `depth_slots` of them; nullopt
 // when it leaves no full-size slot.
 std::optional<PhotoCachePlan> PlanWith(const PhotoLayout& layout, size_t depth_layer_bytes,
                                        int depth_slots, size_t budget_bytes) {
   const size_t photos = layout.sizes.size();
-  const size_t layer = layout.LayerBytes();
   PhotoCachePlan plan;
   plan.depth_slots = depth_slots;
   plan.depth_bytes =
@@ -83,8 +93,9 @@ std::optional<PhotoCachePlan> PlanWith(const PhotoLayout& layout, size_t depth_l
   }
   plan.fallback_bytes = FallbackLayout(layout, plan.fallback_shift).Bytes();
   const size_t for_slots = left > plan.fallback_bytes ? left - plan.fallback_bytes : 0;
-  plan.slots = static_cast<int>(std::min(photos, for_slots / layer));
-  plan.slot_bytes = static_cast<size_t>(plan.slots) * layer;
+  plan.slots = static_cast<int>(std::min(photos, for_slots / layout.LayerBytes()));
+  plan.slot_bytes = static_cast<size_t>(plan.slots) * layout.LayerBytes();
+  plan.pool_bytes = for_slots;
   if (plan.slots < 1) return std::nullopt;
   return plan;
 }
@@ -147,11 +158,14 @@ PhotoCache::PhotoCache(const Scene& scene, std::vector<cv::Mat> images, PhotoLay
     UploadLayer(fallback_.id(), static_cast<int>(i), coarse);
   }
   glGenerateTextureMipmap(fallback_.id());
-  slots_ = MipmappedArray(format, layout_.width, layout_.height, plan.slots, layout_.levels);
-  for (int l = 0; l < layout_.levels; ++l) glClearTexImage(slots_.id(), l, GL_RGBA, GL_FLOAT, zero);
-  slot_.resize(static_cast<size_t>(plan.slots));
-  slot_of_.assign(n, -1);
+  slot_of_.assign(n, Where{});
+  level_of_.assign(n, -1);
+  tiers_.resize(static_cast<size_t>(std::min({kSlotTiers, plan.fallback_shift, layout_.levels})));
+  std::vector<int> counts(tiers_.size(), 0);
+  counts[0] = plan.slots;
+  Build(counts);
   slot_map_ = gl::Buffer(std::max<size_t>(1, n) * sizeof(int), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  feedback_ = gl::Buffer(std::max<size_t>(1, n) * sizeof(int), nullptr, GL_DYNAMIC_STORAGE_BIT);
   if (plan.depth_slots > 0) {
     HDRIBR_CHECK(depth_layers.size() == n && depth_size.width > 0 && depth_size.height > 0);
     depth_layers_ = std::move(depth_layers);
@@ -169,13 +183,112 @@ PhotoCache::PhotoCache(const Scene& scene, std::vector<cv::Mat> images, PhotoLay
 
 PhotoCache::~PhotoCache() = default;
 
+size_t PhotoCache::SplitBytes(const std::vector<int>& counts) const {
+  size_t bytes = 0;
+  bool reduced = false;
+  for (size_t t = 0; t < counts.size(); ++t) {
+    bytes += static_cast<size_t>(counts[t]) * TierLayout(layout_, static_cast<int>(t)).LayerBytes();
+    reduced = reduced || (t > 0 && counts[t] > 0);
+  }
+  return bytes + (reduced ? layout_.LayerBytes() : 0);
+}
+
+void PhotoCache::Build(const std::vector<int>& counts) {
+  HDRIBR_CHECK(counts.size() == tiers_.size() && in_flight_ == 0);
+  for (size_t p = 0; p < slot_of_.size(); ++p) {
+    if (slot_of_[p].tier >= 0) ++evictions_;
+    slot_of_[p] = Where{};
+  }
+  const GLenum format = layout_.is_float ? GL_RGBA16F : GL_RGBA8;
+  const float zero[4] = {0, 0, 0, 0};
+  bool reduced = false;
+  for (size_t t = 0; t < tiers_.size(); ++t) {
+    Tier& tier = tiers_[t];
+    const PhotoLayout tl = TierLayout(layout_, static_cast<int>(t));
+    tier.width = tl.width;
+    tier.height = tl.height;
+    tier.levels = tl.levels;
+    tier.slot.assign(static_cast<size_t>(counts[t]), Slot{});
+    tier.texture = MipmappedArray();
+    if (counts[t] == 0) continue;
+    reduced = reduced || t > 0;
+    tier.texture = MipmappedArray(format, tier.width, tier.height, counts[t], tier.levels);
+    for (int l = 0; l < tier.levels; ++l) {
+      glClearTexImage(tier.texture.id(), l, GL_RGBA, GL_FLOAT, zero);
+    }
+  }
+  staging_ = reduced ? MipmappedArray(format, layout_.width, layout_.height, 1, layout_.levels)
+                     : MipmappedArray();
+  slot_bytes_ = SplitBytes(counts);
+  HDRIBR_CHECK(slot_bytes_ <= std::max(plan_.pool_bytes, plan_.slot_bytes));
+  map_dirty_ = true;
+}
+
+bool PhotoCache::Resplit(const std::vector<int>& wanted, bool wait) {
+  if (in_flight_ > 0 || (!wait && last_split_ >= 0 && frame_ - last_split_ < kResplitFrames)) {
+    return false;
+  }
+  const int tiers = this->tiers();
+  if (tiers < 2) return false;
+  std::vector<int> need(static_cast<size_t>(tiers), 0);
+  for (int p : wanted) {
+    const int level = level_of_[static_cast<size_t>(p)];
+    if (level >= 0) ++need[static_cast<size_t>(std::min(level, tiers - 1))];
+  }
+  // What a split gives the wanted photos of known level: how many get a slot at all (the others
+  // are blended from their coarse copies), then how many at their level (photos that need
+  // level t can take a slot of any finer size: filled from the finest need).
+  const int known = std::accumulate(need.begin(), need.end(), 0);
+  auto placed = [&](const std::vector<int>& counts) {
+    int n = 0, spare = 0;
+    for (size_t t = 0; t < counts.size(); ++t) {
+      spare += counts[t];
+      const int take = std::min(spare, need[t]);
+      n += take;
+      spare -= take;
+    }
+    return std::make_pair(std::min(known, std::accumulate(counts.begin(), counts.end(), 0)), n);
+  };
+  std::vector<int> current(static_cast<size_t>(tiers));
+  for (size_t t = 0; t < current.size(); ++t) current[t] = static_cast<int>(tiers_[t].slot.size());
+  if (placed(current).second == known) return false;
+  // A slot per photo at its level; over the memory, the finest move one size down; what is left
+  // goes to full-size slots (they serve every level), then to the smaller ones.
+  std::vector<int> split = need;
+  const size_t pool = plan_.pool_bytes;
+  for (int t = 0; t < tiers && SplitBytes(split) > pool; ++t) {
+    while (split[static_cast<size_t>(t)] > 0 && SplitBytes(split) > pool) {
+      --split[static_cast<size_t>(t)];
+      if (t + 1 < tiers) ++split[static_cast<size_t>(t + 1)];
+    }
+  }
+  const int photos = static_cast<int>(slot_of_.size());
+  for (int t = 0; t < tiers; ++t) {
+    while (std::accumulate(split.begin(), split.end(), 0) < photos) {
+      ++split[static_cast<size_t>(t)];
+      if (SplitBytes(split) <= pool) continue;
+      --split[static_cast<size_t>(t)];
+      break;
+    }
+  }
+  if (std::accumulate(split.begin(), split.end(), 0) == 0 || placed(split) <= placed(current)) {
+    return false;
+  }
+  Build(split);
+  last_split_ = frame_;
+  return true;
+}
+
 void PhotoCache::Request(const std::vector<int>& wanted, bool wait) {
   Collect(loader_->TakeDone());
-  if (wanted.size() > slot_.size() && !warned_) {
+  ReadFeedback();
+  size_t slots = 0;
+  for (const Tier& tier : tiers_) slots += tier.slot.size();
+  if (wanted.size() > slots && !warned_) {
     spdlog::warn(
-        "photo cache: {} candidate photos for {} full-size slots: the others are blended from "
-        "their coarse copies (a larger GPU memory budget or fewer candidates avoids it)",
-        wanted.size(), slot_.size());
+        "photo cache: {} candidate photos for {} slots: the others are blended from their "
+        "coarse copies (a larger GPU memory budget or fewer candidates avoids it)",
+        wanted.size(), slots);
     warned_ = true;
   }
   if (caches_depth() && wanted.size() > depth_slot_.size() && !warned_depth_) {
@@ -186,46 +299,130 @@ void PhotoCache::Request(const std::vector<int>& wanted, bool wait) {
     warned_depth_ = true;
   }
   ++frame_;
-  std::vector<bool> is_wanted(slot_of_.size(), false);
-  for (int p : wanted) is_wanted[static_cast<size_t>(p)] = true;
+  last_wanted_ = wanted;
+  Resplit(wanted, wait);
   for (int p : wanted) {
-    const int s = slot_of_[static_cast<size_t>(p)];
-    if (s >= 0) slot_[static_cast<size_t>(s)].last_used = frame_;
+    const Where& w = slot_of_[static_cast<size_t>(p)];
+    if (w.tier >= 0) SlotAt(w).last_used = frame_;
   }
-  for (int p : wanted) {
-    if (slot_of_[static_cast<size_t>(p)] >= 0) continue;
-    // A free slot, else the least recently used one holding a photo this frame does not want.
-    int best = -1;
-    for (size_t s = 0; s < slot_.size(); ++s) {
-      const Slot& c = slot_[s];
-      if (c.pending || (c.photo >= 0 && is_wanted[static_cast<size_t>(c.photo)])) continue;
-      if (best < 0 || c.photo < 0 ||
-          (slot_[static_cast<size_t>(best)].photo >= 0 &&
-           c.last_used < slot_[static_cast<size_t>(best)].last_used)) {
-        best = static_cast<int>(s);
-        if (c.photo < 0) break;
+  Place(wanted);
+  if (caches_depth()) {
+    std::vector<bool> is_wanted(slot_of_.size(), false);
+    for (int p : wanted) is_wanted[static_cast<size_t>(p)] = true;
+    RequestDepth(wanted, is_wanted);
+  }
+  ClearFeedback();
+  if (wait) {
+    Settle();
+  } else {
+    UploadMap();
+  }
+}
+
+bool PhotoCache::Place(const std::vector<int>& wanted) {
+  const int tiers = this->tiers();
+  std::vector<bool> is_wanted(slot_of_.size(), false), placed(slot_of_.size(), false);
+  for (int p : wanted) is_wanted[static_cast<size_t>(p)] = true;
+  // The tier photo p asks for: the coarsest whose levels hold the finest level it was sampled at.
+  auto desired = [&](int p) { return std::clamp(level_of_[static_cast<size_t>(p)], 0, tiers - 1); };
+  std::vector<int> order = wanted;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return desired(a) < desired(b); });
+  bool changed = false;
+  for (int p : order) {
+    placed[static_cast<size_t>(p)] = true;
+    const int need = desired(p);
+    const Where held = slot_of_[static_cast<size_t>(p)];
+    if (held.tier >= 0 && (held.tier <= need || SlotAt(held).pending)) continue;
+    // The tier it needs, then finer ones (the same pixels), then coarser ones than it needs but
+    // finer than what it has (sharper than its coarse copy).
+    std::vector<int> tries;
+    for (int t = need; t >= 0; --t) tries.push_back(t);
+    for (int t = need + 1; t < tiers; ++t) tries.push_back(t);
+    Where best;
+    for (int t : tries) {
+      if (held.tier >= 0 && t >= held.tier) continue;
+      const std::vector<Slot>& slots = tiers_[static_cast<size_t>(t)].slot;
+      // A free slot, else the least recently used one holding a photo this frame does not
+      // want, else one holding a wanted photo not placed yet that needs a coarser tier.
+      int pick = -1, rank = 3;
+      for (size_t s = 0; s < slots.size() && rank > 0; ++s) {
+        const Slot& c = slots[s];
+        if (c.pending) continue;
+        const size_t q = static_cast<size_t>(c.photo);
+        const int r = c.photo < 0                          ? 0
+                      : !is_wanted[q]                      ? 1
+                      : !placed[q] && desired(c.photo) > t ? 2
+                                                           : 3;
+        if (r < rank ||
+            (r == rank && r == 1 && c.last_used < slots[static_cast<size_t>(pick)].last_used)) {
+          pick = static_cast<int>(s);
+          rank = r;
+        }
+      }
+      if (pick >= 0 && rank < 3) {
+        best = Where{t, pick};
+        break;
       }
     }
-    if (best < 0) break;  // every slot holds a wanted photo: the rest stay coarse
-    Slot& slot = slot_[static_cast<size_t>(best)];
-    if (slot.photo >= 0) {
-      slot_of_[static_cast<size_t>(slot.photo)] = -1;
-      ++evictions_;
-      map_dirty_ = true;
-    }
+    if (best.tier < 0) continue;  // stays where it is, or on its coarse copy
+    if (held.tier >= 0) Evict(p);
+    Slot& slot = SlotAt(best);
+    if (slot.photo >= 0) Evict(slot.photo);
     slot.photo = p;
     slot.pending = true;
     slot.last_used = frame_;
     slot_of_[static_cast<size_t>(p)] = best;
     loader_->Request(p);
     ++in_flight_;
+    changed = true;
   }
-  if (caches_depth()) RequestDepth(wanted, is_wanted);
+  return changed;
+}
+
+void PhotoCache::Evict(int p) {
+  Where& w = slot_of_[static_cast<size_t>(p)];
+  SlotAt(w) = Slot{};
+  w = Where{};
+  ++evictions_;
+  map_dirty_ = true;
+}
+
+void PhotoCache::ClearFeedback() {
+  const int none = kNotSampled;
+  glClearNamedBufferData(feedback_.id(), GL_R32I, GL_RED_INTEGER, GL_INT, &none);
+  feedback_unread_ = true;
+}
+
+bool PhotoCache::ReadFeedback() {
+  if (!feedback_unread_) return false;
+  feedback_unread_ = false;
+  std::vector<int> sampled(std::max<size_t>(1, slot_of_.size()));
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glGetNamedBufferSubData(feedback_.id(), 0, static_cast<GLsizeiptr>(sampled.size() * sizeof(int)),
+                          sampled.data());
+  bool finer = false;
+  for (size_t p = 0; p < slot_of_.size(); ++p) {
+    if (sampled[p] == kNotSampled) continue;
+    level_of_[p] = std::max(0, sampled[p]);
+    const Where& w = slot_of_[p];
+    const int has = w.tier >= 0 && !SlotAt(w).pending ? w.tier : plan_.fallback_shift;
+    if (sampled[p] < has) finer = true;
+  }
+  return finer;
+}
+
+bool PhotoCache::Refine(bool wait) {
+  if (!ReadFeedback()) return false;
+  const bool rebuilt = Resplit(last_wanted_, wait);
+  if (!Place(last_wanted_) && !rebuilt) return false;
+  ClearFeedback();
   if (wait) {
     Settle();
   } else {
     UploadMap();
   }
+  return true;
 }
 
 void PhotoCache::RequestDepth(const std::vector<int>& wanted, const std::vector<bool>& is_wanted) {
@@ -275,6 +472,7 @@ void PhotoCache::Settle() {
 
 int PhotoCache::Poll() {
   Collect(loader_->TakeDone());
+  if (in_flight_ == 0) Refine(false);
   UploadMap();
   return static_cast<int>(in_flight_);
 }
@@ -286,26 +484,36 @@ void PhotoCache::Collect(std::vector<LoadedPhoto> loaded) {
   const GLenum format = layout_.is_float ? GL_RGBA16F : GL_RGBA8;
   std::exception_ptr error;  // the first load that failed, rethrown once the others are in
   for (LoadedPhoto& l : loaded) {
-    const int s = slot_of_[static_cast<size_t>(l.photo)];
-    HDRIBR_CHECK(s >= 0 && slot_[static_cast<size_t>(s)].pending);
+    const Where w = slot_of_[static_cast<size_t>(l.photo)];
+    HDRIBR_CHECK(w.tier >= 0 && SlotAt(w).pending);
     if (l.error) {
       if (!error) error = l.error;
-      slot_[static_cast<size_t>(s)] = Slot{};
-      slot_of_[static_cast<size_t>(l.photo)] = -1;
+      SlotAt(w) = Slot{};
+      slot_of_[static_cast<size_t>(l.photo)] = Where{};
       continue;
     }
-    // Level 0 of the slot cleared, the photo in its corner and the mipmaps of this layer
-    // alone (a one-layer view): the texels the all-resident array holds for the photo.
-    glClearTexSubImage(slots_.id(), 0, 0, 0, s, layout_.width, layout_.height, 1, GL_RGBA, GL_FLOAT,
+    // Level 0 cleared, the photo in its corner and the mipmaps of this layer alone (a one-layer
+    // view): the texels the all-resident array holds for the photo. A reduced slot takes
+    // levels t and coarser of them from the staging layer.
+    const Tier& tier = tiers_[static_cast<size_t>(w.tier)];
+    const GLuint target = w.tier == 0 ? tier.texture.id() : staging_.id();
+    const int layer = w.tier == 0 ? w.slot : 0;
+    glClearTexSubImage(target, 0, 0, 0, layer, layout_.width, layout_.height, 1, GL_RGBA, GL_FLOAT,
                        zero);
-    UploadLayer(slots_.id(), s, l.pixels);
+    UploadLayer(target, layer, l.pixels);
     GLuint view = 0;
     glGenTextures(1, &view);
-    glTextureView(view, GL_TEXTURE_2D_ARRAY, slots_.id(), format, 0,
-                  static_cast<GLuint>(layout_.levels), static_cast<GLuint>(s), 1);
+    glTextureView(view, GL_TEXTURE_2D_ARRAY, target, format, 0, static_cast<GLuint>(layout_.levels),
+                  static_cast<GLuint>(layer), 1);
     glGenerateTextureMipmap(view);
     glDeleteTextures(1, &view);
-    slot_[static_cast<size_t>(s)].pending = false;
+    for (int k = 0; w.tier > 0 && k < tier.levels; ++k) {
+      const int level = w.tier + k;
+      glCopyImageSubData(staging_.id(), GL_TEXTURE_2D_ARRAY, level, 0, 0, 0, tier.texture.id(),
+                         GL_TEXTURE_2D_ARRAY, k, 0, 0, w.slot, std::max(1, layout_.width >> level),
+                         std::max(1, layout_.height >> level), 1);
+    }
+    SlotAt(w).pending = false;
     ++loads_;
     map_dirty_ = true;
   }
@@ -316,8 +524,8 @@ void PhotoCache::UploadMap() {
   if (!map_dirty_) return;
   std::vector<int> map(std::max<size_t>(1, slot_of_.size()), -1);
   for (size_t p = 0; p < slot_of_.size(); ++p) {
-    const int s = slot_of_[p];
-    if (s >= 0 && !slot_[static_cast<size_t>(s)].pending) map[p] = s;
+    const Where& w = slot_of_[p];
+    if (w.tier >= 0 && !SlotAt(w).pending) map[p] = w.tier << 24 | w.slot;
   }
   glNamedBufferSubData(slot_map_.id(), 0, static_cast<GLsizeiptr>(map.size() * sizeof(int)),
                        map.data());
@@ -328,15 +536,18 @@ PhotoResidency PhotoCache::residency() const {
   PhotoResidency r;
   r.cached = true;
   r.photos = static_cast<int>(slot_of_.size());
-  r.slots = plan_.slots;
-  for (const Slot& s : slot_) {
-    if (s.photo >= 0 && !s.pending) ++r.full_size;
+  r.slots = static_cast<int>(tiers_[0].slot.size());
+  for (size_t t = 0; t < tiers_.size(); ++t) {
+    for (const Slot& s : tiers_[t].slot) {
+      if (s.photo >= 0 && !s.pending) ++(t == 0 ? r.full_size : r.reduced);
+    }
+    if (t > 0) r.reduced_slots += static_cast<int>(tiers_[t].slot.size());
   }
   r.pending = static_cast<int>(in_flight_);
   r.fallback_divisor = 1 << plan_.fallback_shift;
   r.depth_slots = plan_.depth_slots;
   r.depth_bytes = plan_.depth_bytes;
-  r.resident_bytes = plan_.fallback_bytes + plan_.slot_bytes + plan_.depth_bytes;
+  r.resident_bytes = plan_.fallback_bytes + slot_bytes_ + plan_.depth_bytes;
   r.total_bytes = layout_.Bytes();
   r.loads = loads_;
   r.evictions = evictions_;

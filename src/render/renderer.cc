@@ -161,8 +161,10 @@ Renderer::Renderer(const gl::ShaderLibrary& shaders, const Scene& scene, Rendere
   if (r.cached) {
     spdlog::info(
         "renderer: the photos need {:.1f} MiB with their depth maps, over the budget of {:.1f} "
-        "MiB: photo cache of {} full-size slots and coarse copies at 1/{} size",
-        r.total_bytes / 1048576.0, r.budget_bytes / 1048576.0, r.slots, r.fallback_divisor);
+        "MiB: photo cache of {} full-size slots, {} reduced slots (mip levels 1 or 2 on) and "
+        "coarse copies at 1/{} size",
+        r.total_bytes / 1048576.0, r.budget_bytes / 1048576.0, r.slots, r.reduced_slots,
+        r.fallback_divisor);
   }
 }
 
@@ -249,6 +251,14 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   stamps.t[1].Stamp();
   m.blend.Process(cam, cam_from_world, target.depth, m.options.blend,
                   m.response ? &m.response : nullptr, target.color, target.aux);
+  // Waiting renders are the all-resident render: when the blend sampled a photo finer than its
+  // slot holds, the cache moves it to a finer slot and the blend runs again (twice at most: the
+  // second placement knows every photo's level).
+  for (int round = 0; round < 2 && m.cache && m.options.wait_for_photos && m.cache->Refine(true);
+       ++round) {
+    m.blend.Process(cam, cam_from_world, target.depth, m.options.blend,
+                    m.response ? &m.response : nullptr, target.color, target.aux);
+  }
   stamps.t[2].Stamp();
   stamps.unread = true;
 }

@@ -219,11 +219,16 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
     display_dirty_ = false;
   }
   if (measured) schedule_.Record(level, frame_ms);
-  // A full-quality picture drawn while photos were still loading (from their coarse copies) is
-  // drawn again once they are resident.
-  if (level_ == ProgressiveSchedule::kFull && stats_.residency.pending > 0 &&
-      BaseRenderer().PollPhotoLoads() == 0) {
-    schedule_.MarkStale();
+  // A full-quality picture drawn while photos were still loading (from their coarse copies), or
+  // whose photos the cache moved to finer slots since (the levels the blend sampled), is drawn
+  // again once they are resident.
+  if (level_ == ProgressiveSchedule::kFull) {
+    const int loading = BaseRenderer().PollPhotoLoads();
+    if (loading > 0 || stats_.residency.pending > 0) redraw_when_loaded_ = true;
+    if (loading == 0 && redraw_when_loaded_) {
+      redraw_when_loaded_ = false;
+      schedule_.MarkStale();
+    }
   }
 }
 

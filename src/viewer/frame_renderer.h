@@ -69,8 +69,11 @@ class FrameRenderer {
   void Render(const ViewState& state, const Rigid3d& pose, int width, int height);
   // True when the picture on screen is at full quality.
   bool full_quality() const { return level_ == ProgressiveSchedule::kFull; }
-  // True when it is also final: rendered with every photo it needed resident at full size.
-  bool settled() const { return full_quality() && stats_.residency.pending == 0; }
+  // True when it is also final: rendered with every photo it needed resident at the level it
+  // samples.
+  bool settled() const {
+    return full_quality() && stats_.residency.pending == 0 && !redraw_when_loaded_;
+  }
   // The display (with the frustums over it when asked, the candidate photos' in their own
   // colour) into the window's framebuffer.
   void Blit(int fb_width, int fb_height, bool frustums, int current_photo);
@@ -128,6 +131,7 @@ class FrameRenderer {
   int window_width_ = 0, window_height_ = 0;
   int level_ = -1;  // the level of the picture on screen
   ProgressiveSchedule schedule_;
+  bool redraw_when_loaded_ = false;  // the full-quality picture waits for photo loads
   Settings loaded_settings_;
   bool loaded_ = false;
   bool options_dirty_ = false;  // display mode changed: blend mode to update

@@ -135,10 +135,11 @@ void DrawPanel(ViewState& state, const PanelInfo& info) {
   }
   const render::PhotoResidency& gpu = stats.residency;
   if (gpu.cached) {
-    ImGui::Text("GPU memory %.0f of %.0f MiB (budget %.0f): %d of %d photos at full size%s",
-                gpu.resident_bytes / 1048576.0, gpu.total_bytes / 1048576.0,
-                gpu.budget_bytes / 1048576.0, gpu.full_size, gpu.photos,
-                gpu.pending > 0 ? ", loading" : "");
+    ImGui::Text(
+        "GPU memory %.0f of %.0f MiB (budget %.0f): %d of %d photos at full size, %d "
+        "from a coarser level%s",
+        gpu.resident_bytes / 1048576.0, gpu.total_bytes / 1048576.0, gpu.budget_bytes / 1048576.0,
+        gpu.full_size, gpu.photos, gpu.reduced, gpu.pending > 0 ? ", loading" : "");
   } else {
     ImGui::Text("GPU memory %.0f MiB, every photo resident", gpu.resident_bytes / 1048576.0);
   }

@@ -179,7 +179,7 @@ TEST_F(PhotoCacheTest, OtherPhotosEvictAndWaitingRendersEqualTheAllResidentRende
               r.evictions, r.slots);
   ASSERT_GT(static_cast<int>(seen.size()), r.slots);  // the views need more than the slots
   EXPECT_GT(r.evictions, 0u);
-  EXPECT_EQ(r.loads, r.evictions + static_cast<size_t>(r.full_size));
+  EXPECT_EQ(r.loads, r.evictions + static_cast<size_t>(r.full_size + r.reduced));
 }
 
 // Depth maps of the photos' size and a quarter of what photos and depth maps need: the depth
@@ -215,6 +215,52 @@ TEST_F(PhotoCacheTest, DepthMapsBeyondTheBudgetAreCachedToo) {
     EXPECT_TRUE(Same(settled.valid, reference.valid));
   }
   EXPECT_GT(cached.residency().evictions, 0u);
+}
+
+// A small view of the whole scene samples the photos from mip level 2 on: with a budget that
+// holds fewer full-size photos than a frame's candidates, the slots are split between sizes
+// from the levels the blend reports, the candidates go to reduced slots, and the settled render
+// is the all-resident one.
+TEST_F(PhotoCacheTest, CandidatesAreResidentAtTheLevelTheViewNeeds) {
+  constexpr int kSize = 16;
+  constexpr int kMany = 8;
+  const Camera cam = test::TestCamera(kSize);
+  RendererOptions ro = Options();
+  ro.max_candidates = kMany;
+  Renderer all(*shaders_, *scene_, ro);
+  ro.gpu_memory_mb = QuarterOfPhotosMb();
+  ro.wait_for_photos = false;
+  Renderer cached(*shaders_, *scene_, ro);
+  const PhotoResidency r0 = cached.residency();
+  std::printf("budget %.3f MiB: %d full-size slots, %d reduced, coarse 1/%d\n", ro.gpu_memory_mb,
+              r0.slots, r0.reduced_slots, r0.fallback_divisor);
+  ASSERT_TRUE(r0.cached);
+  EXPECT_LE(r0.resident_bytes, r0.budget_bytes);
+  // The budget less the depth maps holds fewer full-size photos than a frame's candidates.
+  const size_t layer = (r0.total_bytes - r0.depth_bytes) / scene_->photos.size();
+  ASSERT_LT((r0.budget_bytes - r0.depth_bytes) / layer, static_cast<size_t>(kMany));
+  for (const Rigid3d& view : {kView, kOtherView}) {
+    const RenderImages reference = all.RenderToImages(cam, view, kSize, kSize);
+    ASSERT_GT(cv::countNonZero(reference.valid), kSize * kSize / 2);
+    const RenderImages first = cached.RenderToImages(cam, view, kSize, kSize);
+    EXPECT_TRUE(Same(first.valid, reference.valid));  // never a hole
+    // The first frame's levels place the photos; the next settles to the all-resident render.
+    for (int frame = 0; frame < 2; ++frame) {
+      cached.SettleCache();
+      cached.RenderToImages(cam, view, kSize, kSize);
+    }
+    cached.SettleCache();
+    const RenderImages settled = cached.RenderToImages(cam, view, kSize, kSize);
+    const PhotoResidency r = cached.residency();
+    std::printf(
+        "settled: %d full-size slots, %d reduced; %d photos at full size, %d at a reduced "
+        "level, %zu loads\n",
+        r.slots, r.reduced_slots, r.full_size, r.reduced, r.loads);
+    EXPECT_LE(r.resident_bytes, r.budget_bytes);
+    EXPECT_GT(r.reduced, 0);
+    EXPECT_TRUE(Same(settled.color, reference.color));
+    EXPECT_TRUE(Same(settled.valid, reference.valid));
+  }
 }
 
 TEST_F(PhotoCacheTest, BadBudgetsAreOptionErrors) {
