@@ -26,11 +26,18 @@ bool Filtered(const BlendOptions& options) {
   return options.mode != BlendMode::kNearestPhoto && options.filter > 0.0f;
 }
 
+// True when the blend reweights its ranked photos by their colours' agreement: 8-bit photos
+// (the scale is in their units), never for the nearest photo nor when every photo is summed.
+bool RejectsOutliers(const BlendOptions& options, bool sum_all, bool float_photos) {
+  return options.mode != BlendMode::kNearestPhoto && !sum_all && !float_photos &&
+         options.outlier_scale > 0.0f;
+}
+
 // The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
 // the per-pixel list, `sum_all` for eq. 5 over every photo, `cached` / `cached_depth` when the
-// photos / their depth maps are in a PhotoCache.
+// photos / their depth maps are in a PhotoCache, `float_photos` for RGBA16F photos.
 gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, bool cached,
-                         bool cached_depth) {
+                         bool cached_depth, bool float_photos) {
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   gl::Defines modes = {{"KEEP", std::to_string(keep)},
                        {"ENCODING", options.encoding == PhotoEncoding::kRadiance ? "1" : "0"},
@@ -40,7 +47,9 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, bo
                        {"BACKGROUND", std::to_string(static_cast<int>(options.background))},
                        {"SOFT_VISIBILITY", options.visibility == Visibility::kSoft ? "1" : "0"},
                        {"CACHED", cached ? "1" : "0"},
-                       {"CACHED_DEPTH", cached_depth ? "1" : "0"}};
+                       {"CACHED_DEPTH", cached_depth ? "1" : "0"},
+                       {"CUBIC", options.sampling == PhotoSampling::kCubic ? "1" : "0"},
+                       {"OUTLIER", RejectsOutliers(options, sum_all, float_photos) ? "1" : "0"}};
   if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
 }
@@ -67,7 +76,7 @@ Eigen::Vector4d BackgroundSphere(const Scene& scene) {
 
 BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
   // The default's, so that compile errors show early.
-  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, false, false));
+  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, false, false, false));
 }
 
 const gl::Program& BlendPass::ProgramFor(const gl::Defines& modes) const {
@@ -142,6 +151,7 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuin
   cached_depth_ = cache && cache->caches_depth();
   depth_maps_ = cached_depth_ ? cache->depth_texture() : depth_maps.depth().id();
   photo_count_ = static_cast<int>(scene.photos.size());
+  float_photos_ = textures.is_float;
   inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
   const Eigen::Vector4d sphere = BackgroundSphere(scene);
   for (int k = 0; k < 4; ++k) sphere_[k] = static_cast<float>(sphere[k]);
@@ -185,8 +195,8 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
   const bool sum_all = k_best <= 0 && !(ulr && !nearest);
-  const gl::Program& program =
-      ProgramFor(ProgramModes(options, keep, sum_all, cache_ != nullptr, cached_depth_));
+  const gl::Program& program = ProgramFor(
+      ProgramModes(options, keep, sum_all, cache_ != nullptr, cached_depth_, float_photos_));
   const GLuint p = program.id();
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
   glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
@@ -201,6 +211,8 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1i(p, 8, options.debug_photo);
   glProgramUniform4fv(p, 13, 1, sphere_);
   if (Filtered(options)) glProgramUniform1f(p, 17, options.filter);
+  if (RejectsOutliers(options, sum_all, float_photos_))
+    glProgramUniform1f(p, 18, options.outlier_scale);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
