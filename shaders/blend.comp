@@ -289,12 +289,12 @@ vec3 FetchFiltered(int i, Sample s, vec3 uvl, float u) {
   vec3 C = u_world_from_cam[3].xyz;
   vec3 a = (photos[i].cam_from_world * vec4(C + (s.P - C) * (1.0 - u), 1.0)).xyz;
   vec3 b = (photos[i].cam_from_world * vec4(C + (s.P - C) * (1.0 + u), 1.0)).xyz;
-  if (a.z <= 0.0 || b.z <= 0.0) return FetchPhoto(i, uvl);
+  if (a.z <= 0.0 || b.z <= 0.0) return FetchCubic(i, uvl);
   vec4 intr = photos[i].intrinsics;
   vec2 pa = intr.xy * a.xy / a.z + intr.zw;
   vec2 pb = intr.xy * b.xy / b.z + intr.zw;
   float texels = length(pb - pa) * photos[i].size.z;
-  if (texels <= 1.0) return FetchPhoto(i, uvl);
+  if (texels <= 1.0) return FetchCubic(i, uvl);
   vec4 tex = photos[i].tex;
   float lod = max(uvl.z, log2(texels * 0.25));
   const float kTap[5] = float[5](1.0, 4.0, 6.0, 4.0, 1.0);

@@ -93,11 +93,12 @@ struct BlendOptions {
   // Filtered blending (Eisemann et al. 2007): relative depth uncertainty along the view's ray
   // over which each blended photo is low-passed; 0 = off.
   float filter = 0.0f;
-  PhotoSampling sampling = PhotoSampling::kLinear;
+  // Catmull-Rom by default (sharper than trilinear, docs/benchmarks.md).
+  PhotoSampling sampling = PhotoSampling::kCubic;
   // Photometric outlier rejection of the ranked photos of 8-bit photos (not with every photo
   // summed, nor for float photos): each weight divided by 1 + (|c_k - m| / outlier_scale)^2,
   // c_k the photo's value (RGB, 1 = white), m the weighted mean; 0 = off.
-  float outlier_scale = 0.0f;
+  float outlier_scale = 0.08f;
 };
 
 // One BlendOptions field that no blend can use.

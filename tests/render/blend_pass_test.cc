@@ -332,6 +332,8 @@ TEST_F(BlendPassTest, FilteredBlending) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   RendererOptions sharp_options, filtered_options;
+  // The filter's taps are trilinear: compared with trilinear sampling.
+  sharp_options.blend.sampling = filtered_options.blend.sampling = PhotoSampling::kLinear;
   filtered_options.blend.filter = 0.05f;
   Renderer sharp(shaders, scene_, sharp_options), filtered(shaders, scene_, filtered_options);
   const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
@@ -372,8 +374,8 @@ TEST_F(BlendPassTest, CubicSampling) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   RendererOptions linear_options, cubic_options;
-  EXPECT_EQ(linear_options.blend.sampling, PhotoSampling::kLinear);  // the default
-  cubic_options.blend.sampling = PhotoSampling::kCubic;
+  EXPECT_EQ(cubic_options.blend.sampling, PhotoSampling::kCubic);  // the default
+  linear_options.blend.sampling = PhotoSampling::kLinear;
   Renderer linear(shaders, scene_, linear_options), cubic(shaders, scene_, cubic_options);
   const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
     cv::Mat grey, lap;
@@ -416,8 +418,8 @@ TEST_F(BlendPassTest, OutlierRejection) {
   Scene corrupt = scene_;
   corrupt.photos[bad].image_path = white;
   RendererOptions plain_options, robust_options;
-  EXPECT_EQ(plain_options.blend.outlier_scale, 0.0f);  // the default: off
-  robust_options.blend.outlier_scale = 0.08f;
+  EXPECT_EQ(robust_options.blend.outlier_scale, 0.08f);  // the default
+  plain_options.blend.outlier_scale = 0.0f;
   Renderer plain(shaders, corrupt, plain_options), robust(shaders, corrupt, robust_options);
   plain.SetActivePhotos(SameSeriesExcept(photo));
   robust.SetActivePhotos(SameSeriesExcept(photo));
