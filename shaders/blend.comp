@@ -95,6 +95,26 @@ layout(std430, binding = 4) coherent buffer Feedback { int sampled_level[]; };
 #ifndef CACHED_DEPTH
 #define CACHED_DEPTH 0
 #endif
+// 1: each photo is sampled with a Catmull-Rom bicubic filter (9 bilinear taps at level 0) where
+// its level of detail is at most kCubicMaxLod; 0: trilinear.
+#ifndef CUBIC
+#define CUBIC 0
+#endif
+#if CUBIC == 1
+// The full-size photo array's size in texels (with a cache, its slots of every size share its
+// texture coordinates, and a cache may have no full-size slot to ask textureSize of).
+layout(location = 19) uniform vec2 u_photo_texels;
+#else
+const vec2 u_photo_texels = vec2(1.0);
+#endif
+// 1: one reweighting step of the per-pixel list: each photo's weight is divided by
+// 1 + (|c_k - m| / u_outlier_scale)^2, m the weighted mean of the photos' stored values.
+#ifndef OUTLIER
+#define OUTLIER 0
+#endif
+#if OUTLIER == 1
+layout(location = 18) uniform float u_outlier_scale;
+#endif
 #ifdef FILTERED
 // Filtered blending (Eisemann et al. 2007, sec. 4): relative depth uncertainty along the view's
 // ray; each blended photo is low-passed along its line of disparity. A program of its own (the
@@ -113,6 +133,7 @@ const float u_filter = 0.0;
 
 const float kHalfPi = 1.5707963;
 const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
+const float kCubicMaxLod = 0.5;  // CUBIC: coarser levels of detail are sampled trilinearly
 
 // What a pixel shows: a point P with normal N (world) on a surface or on the background
 // sphere, or, at infinity, the world direction d (stored in P) of the pixel's ray.
@@ -258,24 +279,54 @@ vec3 FetchPhoto(int i, vec3 uvl) {
       .rgb;
 }
 
+// Keys' cubic convolution weights (a = -0.5: Catmull-Rom) of the 4 texels at distances 1 + f,
+// f, 1 - f and 2 - f from the sample.
+vec4 CatmullRomWeights(float f) {
+  float f2 = f * f;
+  return vec4(f * (-0.5 + f * (1.0 - 0.5 * f)), 1.0 + f2 * (-2.5 + 1.5 * f),
+              f * (0.5 + f * (2.0 - 1.5 * f)), f2 * (-0.5 + 0.5 * f));
+}
+
+// Photo i's stored value at uvl, sampled with CUBIC's filter: Catmull-Rom from 9 bilinear taps
+// at level 0 (the two middle texels of each axis share one tap; the negative lobes' undershoot
+// clamped at 0); trilinear (FetchPhoto) beyond kCubicMaxLod.
+vec3 FetchCubic(int i, vec3 uvl) {
+  if (CUBIC == 0 || uvl.z > kCubicMaxLod) return FetchPhoto(i, uvl);
+  vec2 texels = u_photo_texels;
+  vec2 sp = uvl.xy * texels;
+  vec2 t1 = floor(sp - 0.5) + 0.5;  // centre of the texel left of / above the sample
+  vec2 f = sp - t1;
+  vec4 wx = CatmullRomWeights(f.x);
+  vec4 wy = CatmullRomWeights(f.y);
+  vec3 xs = vec3(t1.x - 1.0, t1.x + wx[2] / (wx[1] + wx[2]), t1.x + 2.0) / texels.x;
+  vec3 ys = vec3(t1.y - 1.0, t1.y + wy[2] / (wy[1] + wy[2]), t1.y + 2.0) / texels.y;
+  vec3 cx = vec3(wx[0], wx[1] + wx[2], wx[3]);
+  vec3 cy = vec3(wy[0], wy[1] + wy[2], wy[3]);
+  vec3 sum = vec3(0.0);
+  for (int b = 0; b < 3; ++b) {
+    for (int a = 0; a < 3; ++a) sum += cx[a] * cy[b] * FetchPhoto(i, vec3(xs[a], ys[b], 0.0));
+  }
+  return max(sum, vec3(0.0));
+}
+
 // Photo i's stored value low-passed along its line of disparity (Eisemann et al. 2007, sec. 4):
 // the segment between the projections of the points at relative depths 1 - u and 1 + u along
 // the view's ray through s.P, sampled with 5 binomial taps at the level of detail of their
 // spacing (a single tap where the segment is under a texel).
 vec3 FetchFiltered(int i, Sample s, vec3 uvl, float u) {
 #ifndef FILTERED
-  return FetchPhoto(i, uvl);
+  return FetchCubic(i, uvl);
 #else
-  if (u <= 0.0 || s.background) return FetchPhoto(i, uvl);
+  if (u <= 0.0 || s.background) return FetchCubic(i, uvl);
   vec3 C = u_world_from_cam[3].xyz;
   vec3 a = (photos[i].cam_from_world * vec4(C + (s.P - C) * (1.0 - u), 1.0)).xyz;
   vec3 b = (photos[i].cam_from_world * vec4(C + (s.P - C) * (1.0 + u), 1.0)).xyz;
-  if (a.z <= 0.0 || b.z <= 0.0) return FetchPhoto(i, uvl);
+  if (a.z <= 0.0 || b.z <= 0.0) return FetchCubic(i, uvl);
   vec4 intr = photos[i].intrinsics;
   vec2 pa = intr.xy * a.xy / a.z + intr.zw;
   vec2 pb = intr.xy * b.xy / b.z + intr.zw;
   float texels = length(pb - pa) * photos[i].size.z;
-  if (texels <= 1.0) return FetchPhoto(i, uvl);
+  if (texels <= 1.0) return FetchCubic(i, uvl);
   vec4 tex = photos[i].tex;
   float lod = max(uvl.z, log2(texels * 0.25));
   const float kTap[5] = float[5](1.0, 4.0, 6.0, 4.0, 1.0);
@@ -406,10 +457,31 @@ void main() {
       }
       if (best_w[0] <= 0.0) best_w[0] = 1.0;  // every penalty beyond the horizon: the best
     }
+    vec3 stored[KEEP];
     for (int j = 0; j < KEEP; ++j) {
-      if (j >= n_best || best_w[j] <= 0.0) continue;
+      bool used = j < n_best && best_w[j] > 0.0;
+      stored[j] = used ? FetchFiltered(best_i[j], s, best_uvl[j], u_filter) : vec3(0.0);
+      if (!used) best_w[j] = 0.0;
+    }
+#if OUTLIER == 1
+    // One reweighting step (Cauchy's): photos whose value departs from the weighted mean by
+    // more than the scale (ghosts of wrong depth or occlusion, highlights) lose their weight.
+    vec3 mean = vec3(0.0);
+    float mean_w = 0.0;
+    for (int j = 0; j < KEEP; ++j) {
+      mean += best_w[j] * stored[j];
+      mean_w += best_w[j];
+    }
+    mean /= max(mean_w, 1e-30);
+    for (int j = 0; j < KEEP; ++j) {
+      vec3 r = (stored[j] - mean) / u_outlier_scale;
+      best_w[j] /= 1.0 + dot(r, r);
+    }
+#endif
+    for (int j = 0; j < KEEP; ++j) {
+      if (best_w[j] <= 0.0) continue;
       vec3 hat;
-      vec3 c = Blended(best_i[j], FetchFiltered(best_i[j], s, best_uvl[j], u_filter), hat);
+      vec3 c = Blended(best_i[j], stored[j], hat);
       sum += best_w[j] * hat * c;
       wsum += best_w[j] * hat;
       geo_sum += best_w[j];

@@ -62,6 +62,15 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
                  "Filtered blending (Eisemann et al. 2007): relative depth uncertainty over "
                  "which each photo is low-passed along its line of disparity (0 = off)")
       ->capture_default_str();
+  app.add_option("--sampling", blend.sampling,
+                 "Photo sampling: linear (trilinear) or cubic (Catmull-Rom at full resolution)")
+      ->transform(NamesTo(
+          NameMap<render::PhotoSampling>(render::kAllPhotoSamplings, render::PhotoSamplingName)))
+      ->default_str(render::PhotoSamplingName(blend.sampling));
+  app.add_option("--outlier-scale", blend.outlier_scale,
+                 "Photometric outlier rejection: colour distance (1 = white) from the weighted "
+                 "mean at which a ranked photo's weight halves (0 = off)")
+      ->capture_default_str();
 }
 
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background) {
@@ -135,7 +144,8 @@ void CheckBlendOptions(const render::BlendOptions& blend) {
   static const FlagNames kFlags = {{"k_best", "--k-best"},
                                    {"lambda", "--lambda"},
                                    {"occlusion_tolerance", "--tolerance"},
-                                   {"filter", "--filter"}};
+                                   {"filter", "--filter"},
+                                   {"outlier_scale", "--outlier-scale"}};
   RunNamingFlags(kFlags, [&] {
     render::ValidateBlendOptions(blend);
     return 0;

@@ -37,6 +37,17 @@ Background ParseBackground(const std::string& name) {
   throw UsageError("unknown background '" + name + "' (none, infinity, sphere)");
 }
 
+std::string PhotoSamplingName(PhotoSampling sampling) {
+  return sampling == PhotoSampling::kCubic ? "cubic" : "linear";
+}
+
+PhotoSampling ParsePhotoSampling(const std::string& name) {
+  for (PhotoSampling s : kAllPhotoSamplings) {
+    if (PhotoSamplingName(s) == name) return s;
+  }
+  throw UsageError("unknown photo sampling '" + name + "' (linear, cubic)");
+}
+
 std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options) {
   std::vector<BlendOptionProblem> problems;
   if (options.k_best < 0 || options.k_best > kMaxKBest) {
@@ -55,6 +66,11 @@ std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options)
     std::ostringstream problem;
     problem << "must be in [0, " << kMaxFilter << "] (0 = off), got " << options.filter;
     problems.push_back({"filter", problem.str()});
+  }
+  if (!(options.outlier_scale >= 0.0f && std::isfinite(options.outlier_scale))) {
+    std::ostringstream problem;
+    problem << "must be finite and >= 0 (0 = off), got " << options.outlier_scale;
+    problems.push_back({"outlier_scale", problem.str()});
   }
   return problems;
 }

@@ -65,6 +65,19 @@ enum class PhotoEncoding {
 // discontinuities, where the test is a coin toss).
 enum class Visibility { kHard = 0, kSoft = 1 };
 
+// How a photo is sampled at a point's projection: kLinear, trilinear (bilinear in the mipmap
+// level of the pixel's footprint); kCubic, Catmull-Rom bicubic where that level is about 0 (a
+// sharper reconstruction of the photo's pixels), trilinear at coarser levels.
+enum class PhotoSampling { kLinear = 0, kCubic = 1 };
+
+// Every PhotoSampling value, in declaration order.
+inline constexpr PhotoSampling kAllPhotoSamplings[] = {PhotoSampling::kLinear,
+                                                       PhotoSampling::kCubic};
+
+// "linear", "cubic"; ParsePhotoSampling throws UsageError for anything else.
+std::string PhotoSamplingName(PhotoSampling sampling);
+PhotoSampling ParsePhotoSampling(const std::string& name);
+
 struct BlendOptions {
   BlendMode mode = BlendMode::kBlend;
   PhotoEncoding encoding = PhotoEncoding::kDisplay;
@@ -80,18 +93,24 @@ struct BlendOptions {
   // Filtered blending (Eisemann et al. 2007): relative depth uncertainty along the view's ray
   // over which each blended photo is low-passed; 0 = off.
   float filter = 0.0f;
+  // Catmull-Rom by default (sharper than trilinear, docs/benchmarks.md).
+  PhotoSampling sampling = PhotoSampling::kCubic;
+  // Photometric outlier rejection of the ranked photos of 8-bit photos (not with every photo
+  // summed, nor for float photos): each weight divided by 1 + (|c_k - m| / outlier_scale)^2,
+  // c_k the photo's value (RGB, 1 = white), m the weighted mean; 0 = off.
+  float outlier_scale = 0.08f;
 };
 
 // One BlendOptions field that no blend can use.
 struct BlendOptionProblem {
   std::string field;    // the BlendOptions member: "k_best", "lambda", "occlusion_tolerance",
-                        // "filter"
+                        // "filter", "outlier_scale"
   std::string problem;  // e.g. "must be in [0, 32] (0 = the default), got 40"
 };
 
 // The fields of `options` outside their valid ranges: k_best in [0, kMaxKBest] whatever the
-// weights, lambda in [0, 1), occlusion_tolerance in (0, 1), filter in [0, kMaxFilter]. Empty when
-// the options are usable.
+// weights, lambda in [0, 1), occlusion_tolerance in (0, 1), filter in [0, kMaxFilter],
+// outlier_scale finite and >= 0. Empty when the options are usable.
 std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options);
 
 // Throws OptionError(field, problem) for the first of BlendOptionProblems.

@@ -26,11 +26,19 @@ bool Filtered(const BlendOptions& options) {
   return options.mode != BlendMode::kNearestPhoto && options.filter > 0.0f;
 }
 
+// True when the blend reweights its ranked photos by their colours' agreement: 8-bit photos
+// (the scale is in their units), never for the nearest photo nor when every photo is summed.
+bool RejectsOutliers(const BlendOptions& options, bool sum_all, bool float_photos) {
+  return options.mode != BlendMode::kNearestPhoto && !sum_all && !float_photos &&
+         options.outlier_scale > 0.0f;
+}
+
 // The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
 // the per-pixel list, `sum_all` for eq. 5 over every photo, `tiers` the slot sizes of the
-// PhotoCache holding the photos (0: none), `cached_depth` when it holds their depth maps.
+// PhotoCache holding the photos (0: none), `cached_depth` when it holds their depth maps,
+// `float_photos` for RGBA16F photos.
 gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, int tiers,
-                         bool cached_depth) {
+                         bool cached_depth, bool float_photos) {
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   gl::Defines modes = {{"KEEP", std::to_string(keep)},
                        {"ENCODING", options.encoding == PhotoEncoding::kRadiance ? "1" : "0"},
@@ -41,7 +49,9 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, in
                        {"SOFT_VISIBILITY", options.visibility == Visibility::kSoft ? "1" : "0"},
                        {"CACHED", tiers > 0 ? "1" : "0"},
                        {"TIERS", std::to_string(std::max(tiers, 1))},
-                       {"CACHED_DEPTH", cached_depth ? "1" : "0"}};
+                       {"CACHED_DEPTH", cached_depth ? "1" : "0"},
+                       {"CUBIC", options.sampling == PhotoSampling::kCubic ? "1" : "0"},
+                       {"OUTLIER", RejectsOutliers(options, sum_all, float_photos) ? "1" : "0"}};
   if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
 }
@@ -68,7 +78,7 @@ Eigen::Vector4d BackgroundSphere(const Scene& scene) {
 
 BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
   // The default's, so that compile errors show early.
-  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, 0, false));
+  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, 0, false, false));
 }
 
 const gl::Program& BlendPass::ProgramFor(const gl::Defines& modes) const {
@@ -143,6 +153,9 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuin
   cached_depth_ = cache && cache->caches_depth();
   depth_maps_ = cached_depth_ ? cache->depth_texture() : depth_maps.depth().id();
   photo_count_ = static_cast<int>(scene.photos.size());
+  float_photos_ = textures.is_float;
+  photo_texels_[0] = static_cast<float>(textures.width);
+  photo_texels_[1] = static_cast<float>(textures.height);
   inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
   const Eigen::Vector4d sphere = BackgroundSphere(scene);
   for (int k = 0; k < 4; ++k) sphere_[k] = static_cast<float>(sphere[k]);
@@ -186,8 +199,8 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
   const bool sum_all = k_best <= 0 && !(ulr && !nearest);
-  const gl::Program& program =
-      ProgramFor(ProgramModes(options, keep, sum_all, cache_ ? cache_->tiers() : 0, cached_depth_));
+  const gl::Program& program = ProgramFor(ProgramModes(
+      options, keep, sum_all, cache_ ? cache_->tiers() : 0, cached_depth_, float_photos_));
   const GLuint p = program.id();
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
   glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
@@ -201,7 +214,10 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1f(p, 7, inv_scene_scale_);
   glProgramUniform1i(p, 8, options.debug_photo);
   glProgramUniform4fv(p, 13, 1, sphere_);
+  if (options.sampling == PhotoSampling::kCubic) glProgramUniform2fv(p, 19, 1, photo_texels_);
   if (Filtered(options)) glProgramUniform1f(p, 17, options.filter);
+  if (RejectsOutliers(options, sum_all, float_photos_))
+    glProgramUniform1f(p, 18, options.outlier_scale);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());

@@ -62,6 +62,8 @@ class BlendPass {
   GLuint depth_maps_ = 0;
   const PhotoCache* cache_ = nullptr;  // null: photo_texture_ holds every photo
   bool cached_depth_ = false;          // depth_maps_ holds the cache's depth slots
+  bool float_photos_ = false;          // RGBA16F photos (an HDR photo set), not 8-bit
+  float photo_texels_[2] = {1, 1};     // the full-size photo array's texels (width, height)
   int photo_count_ = 0;
   int active_count_ = 0;
   float inv_scene_scale_ = 1.0f;

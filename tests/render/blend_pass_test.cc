@@ -289,6 +289,12 @@ TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
   EXPECT_EQ(problems[1].field, "occlusion_tolerance");
   EXPECT_EQ(problems[2].field, "filter");
   bad = BlendOptions();
+  bad.outlier_scale = -0.1f;
+  ASSERT_EQ(BlendOptionProblems(bad).size(), 1u);
+  EXPECT_EQ(BlendOptionProblems(bad)[0].field, "outlier_scale");
+  bad.outlier_scale = std::nanf("");
+  EXPECT_EQ(BlendOptionProblems(bad).size(), 1u);
+  bad = BlendOptions();
   bad.filter = -0.01f;
   EXPECT_EQ(BlendOptionProblems(bad).size(), 1u);
   bad.filter = kMaxFilter;
@@ -326,6 +332,8 @@ TEST_F(BlendPassTest, FilteredBlending) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   RendererOptions sharp_options, filtered_options;
+  // The filter's taps are trilinear: compared with trilinear sampling.
+  sharp_options.blend.sampling = filtered_options.blend.sampling = PhotoSampling::kLinear;
   filtered_options.blend.filter = 0.05f;
   Renderer sharp(shaders, scene_, sharp_options), filtered(shaders, scene_, filtered_options);
   const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
@@ -357,6 +365,73 @@ TEST_F(BlendPassTest, FilteredBlending) {
     EXPECT_LT(detail(f), 0.9 * detail(s));
     EXPECT_GT(psnr_f, 20.0);  // a blurred picture of the scene, not noise
   }
+}
+
+// Catmull-Rom sampling interpolates: at a photo's own viewpoint (its texel centres) it returns
+// the photo's values as trilinear sampling does; between texels it keeps more detail, and the
+// leave-one-out render is closer to the held-out photo.
+TEST_F(BlendPassTest, CubicSampling) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  RendererOptions linear_options, cubic_options;
+  EXPECT_EQ(cubic_options.blend.sampling, PhotoSampling::kCubic);  // the default
+  linear_options.blend.sampling = PhotoSampling::kLinear;
+  Renderer linear(shaders, scene_, linear_options), cubic(shaders, scene_, cubic_options);
+  const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
+    cv::Mat grey, lap;
+    cv::cvtColor(im.color, grey, cv::COLOR_BGR2GRAY);
+    cv::Laplacian(grey, lap, CV_32F);
+    return cv::mean(cv::abs(lap), im.valid)[0];
+  };
+  for (int photo : {1, 8}) {
+    linear.SetActivePhotos({photo});
+    cubic.SetActivePhotos({photo});
+    const RenderImages a = RenderPhotoView(linear, photo), b = RenderPhotoView(cubic, photo);
+    EXPECT_EQ(cv::countNonZero(a.valid != b.valid), 0);
+    EXPECT_LT(cv::norm(a.color, b.color, cv::NORM_INF, a.valid), 2e-3) << "photo " << photo;
+
+    linear.SetActivePhotos(SameSeriesExcept(photo));
+    cubic.SetActivePhotos(SameSeriesExcept(photo));
+    const RenderImages l = RenderPhotoView(linear, photo), c = RenderPhotoView(cubic, photo);
+    ExpectSane(c, 5);
+    EXPECT_EQ(cv::countNonZero(l.valid != c.valid), 0);
+    const double psnr_l = Psnr(l, photo), psnr_c = Psnr(c, photo);
+    std::printf("photo %d: linear %.2f dB detail %.4f, cubic %.2f dB detail %.4f\n", photo, psnr_l,
+                detail(l), psnr_c, detail(c));
+    EXPECT_GT(detail(c), 1.05 * detail(l));
+    EXPECT_GT(psnr_c, psnr_l);
+  }
+  EXPECT_EQ(ParsePhotoSampling("cubic"), PhotoSampling::kCubic);
+  EXPECT_THROW(ParsePhotoSampling("lanczos"), UsageError);
+}
+
+// Photometric outlier rejection: one input photo replaced by a white picture pulls the plain
+// blend towards white wherever it ranks among the K best; the reweighting discards it. With a
+// huge scale the reweighting changes nothing.
+TEST_F(BlendPassTest, OutlierRejection) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const int photo = 2, bad = 3;
+  const std::filesystem::path white = test::TempDir("blend_outlier") / "white.png";
+  const cv::Mat original = ReadImage(scene_.photos[bad].image_path);
+  WriteImage(white, cv::Mat(original.size(), CV_8UC3, cv::Scalar(255, 255, 255)));
+  Scene corrupt = scene_;
+  corrupt.photos[bad].image_path = white;
+  RendererOptions plain_options, robust_options;
+  EXPECT_EQ(robust_options.blend.outlier_scale, 0.08f);  // the default
+  plain_options.blend.outlier_scale = 0.0f;
+  Renderer plain(shaders, corrupt, plain_options), robust(shaders, corrupt, robust_options);
+  plain.SetActivePhotos(SameSeriesExcept(photo));
+  robust.SetActivePhotos(SameSeriesExcept(photo));
+  const RenderImages p = RenderPhotoView(plain, photo), r = RenderPhotoView(robust, photo);
+  ExpectSane(r, kDefaultUnstructuredK);
+  EXPECT_EQ(cv::countNonZero(p.valid != r.valid), 0);
+  const double psnr_p = Psnr(p, photo), psnr_r = Psnr(r, photo);
+  std::printf("photo %d with photo %d white: plain %.2f dB, outliers rejected %.2f dB\n", photo,
+              bad, psnr_p, psnr_r);
+  EXPECT_GT(psnr_r, psnr_p + 1.0);
+  robust.blend_options().outlier_scale = 1e6f;
+  EXPECT_LT(cv::norm(RenderPhotoView(robust, photo).color, p.color, cv::NORM_INF, p.valid), 1e-4);
 }
 
 TEST_F(BlendPassTest, UnstructuredLumigraphWeights) {
