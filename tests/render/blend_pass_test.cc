@@ -325,6 +325,14 @@ TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
   EXPECT_THROW(Renderer(shaders, missing, ro), InputError);  // the photo, read after the check
 }
 
+// Mean |Laplacian| of a render's grey image over its valid pixels: its fine detail.
+double Detail(const RenderImages& im) {
+  cv::Mat grey, lap;
+  cv::cvtColor(im.color, grey, cv::COLOR_BGR2GRAY);
+  cv::Laplacian(grey, lap, CV_32F);
+  return cv::mean(cv::abs(lap), im.valid)[0];
+}
+
 // Filtered blending (Eisemann et al. 2007): a photo at the view's own viewpoint has a line of
 // disparity of length 0 and keeps every detail; photos elsewhere are low-passed (here over
 // +-5 % of the depth), so a leave-one-out render loses high frequencies but keeps its pixels.
@@ -336,12 +344,6 @@ TEST_F(BlendPassTest, FilteredBlending) {
   sharp_options.blend.sampling = filtered_options.blend.sampling = PhotoSampling::kLinear;
   filtered_options.blend.filter = 0.05f;
   Renderer sharp(shaders, scene_, sharp_options), filtered(shaders, scene_, filtered_options);
-  const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
-    cv::Mat grey, lap;
-    cv::cvtColor(im.color, grey, cv::COLOR_BGR2GRAY);
-    cv::Laplacian(grey, lap, CV_32F);
-    return cv::mean(cv::abs(lap), im.valid)[0];
-  };
   for (int photo : {1, 8}) {
     std::vector<int> with = SameSeriesExcept(photo);
     with.push_back(photo);
@@ -360,9 +362,9 @@ TEST_F(BlendPassTest, FilteredBlending) {
     ExpectSane(f, 5);
     EXPECT_EQ(cv::countNonZero(s.valid != f.valid), 0);
     const double psnr_s = Psnr(s, photo), psnr_f = Psnr(f, photo);
-    std::printf("photo %d: detail %.4f -> %.4f, PSNR %.2f -> %.2f dB\n", photo, detail(s),
-                detail(f), psnr_s, psnr_f);
-    EXPECT_LT(detail(f), 0.9 * detail(s));
+    std::printf("photo %d: detail %.4f -> %.4f, PSNR %.2f -> %.2f dB\n", photo, Detail(s),
+                Detail(f), psnr_s, psnr_f);
+    EXPECT_LT(Detail(f), 0.9 * Detail(s));
     EXPECT_GT(psnr_f, 20.0);  // a blurred picture of the scene, not noise
   }
 }
@@ -377,12 +379,6 @@ TEST_F(BlendPassTest, CubicSampling) {
   EXPECT_EQ(cubic_options.blend.sampling, PhotoSampling::kCubic);  // the default
   linear_options.blend.sampling = PhotoSampling::kLinear;
   Renderer linear(shaders, scene_, linear_options), cubic(shaders, scene_, cubic_options);
-  const auto detail = [](const RenderImages& im) {  // mean |Laplacian| of the grey image
-    cv::Mat grey, lap;
-    cv::cvtColor(im.color, grey, cv::COLOR_BGR2GRAY);
-    cv::Laplacian(grey, lap, CV_32F);
-    return cv::mean(cv::abs(lap), im.valid)[0];
-  };
   for (int photo : {1, 8}) {
     linear.SetActivePhotos({photo});
     cubic.SetActivePhotos({photo});
@@ -397,8 +393,8 @@ TEST_F(BlendPassTest, CubicSampling) {
     EXPECT_EQ(cv::countNonZero(l.valid != c.valid), 0);
     const double psnr_l = Psnr(l, photo), psnr_c = Psnr(c, photo);
     std::printf("photo %d: linear %.2f dB detail %.4f, cubic %.2f dB detail %.4f\n", photo, psnr_l,
-                detail(l), psnr_c, detail(c));
-    EXPECT_GT(detail(c), 1.05 * detail(l));
+                Detail(l), psnr_c, Detail(c));
+    EXPECT_GT(Detail(c), 1.05 * Detail(l));
     EXPECT_GT(psnr_c, psnr_l);
   }
   EXPECT_EQ(ParsePhotoSampling("cubic"), PhotoSampling::kCubic);
