@@ -124,6 +124,8 @@ void FrameRenderer::Load(ViewState& state) {
   r.blend_options().lambda = s.lambda;
   r.blend_options().occlusion_tolerance = s.tolerance;
   r.blend_options().background = s.background;
+  r.blend_options().sampling = s.sampling;
+  r.blend_options().outlier_scale = s.outlier_scale;
   r.SetMaxCandidates(s.max_candidates);
   r.blend_options().mode = state.display == DisplayMode::kNearestPhoto
                                ? render::BlendMode::kNearestPhoto

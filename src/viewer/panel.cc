@@ -111,6 +111,8 @@ void DrawSettings(ViewState& state, const Scene& scene) {
   ImGui::SliderFloat("occlusion tol.", &s.tolerance, 0.001f, 0.1f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
   EnumCombo("background", s.background, "none\0infinity\0sphere\0");
+  EnumCombo("sampling", s.sampling, "linear\0cubic\0");
+  ImGui::SliderFloat("outlier scale (0 = off)", &s.outlier_scale, 0.0f, 0.5f, "%.3f");
   int mode = static_cast<int>(state.display);
   if (ImGui::Combo("display", &mode, DisplayModeCombo())) {
     state.SetDisplay(static_cast<DisplayMode>(mode));

@@ -123,6 +123,8 @@ ViewState InitialViewState(const ViewerOptions& options, const Scene& scene) {
   s.lambda = options.renderer.blend.lambda;
   s.tolerance = options.renderer.blend.occlusion_tolerance;
   s.background = options.renderer.blend.background;
+  s.sampling = options.renderer.blend.sampling;
+  s.outlier_scale = options.renderer.blend.outlier_scale;
   s.max_candidates = options.renderer.max_candidates;
   state.display = options.display;
   // LDR photos are already display-encoded: no curve, gamma 1 unless asked.

@@ -52,7 +52,9 @@ struct Settings {
   float lambda = 1e-4f;
   float tolerance = 0.01f;  // occlusion tolerance, relative depth
   render::Background background = render::Background::kSphere;
-  int max_candidates = render::kDefaultMaxCandidates;  // 0 = every active photo
+  render::PhotoSampling sampling = render::BlendOptions{}.sampling;
+  float outlier_scale = render::BlendOptions{}.outlier_scale;  // 0 = off
+  int max_candidates = render::kDefaultMaxCandidates;          // 0 = every active photo
   bool operator==(const Settings&) const = default;
 };
 
