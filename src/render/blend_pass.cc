@@ -95,7 +95,8 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoTextures& textures,
 
 void BlendPass::SetPhotos(const Scene& scene, const PhotoCache& cache,
                           const PhotoDepthMaps& depth_maps) {
-  SetPhotos(scene, cache.layout(), cache.slots_texture(), depth_maps, &cache);
+  // The cache's arrays change when it re-splits its slots: Process binds its current ones.
+  SetPhotos(scene, cache.layout(), 0, depth_maps, &cache);
 }
 
 void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuint texture,

@@ -60,7 +60,7 @@ class BlendPass {
   gl::Buffer active_;
   GLuint photo_texture_ = 0;
   GLuint depth_maps_ = 0;
-  const PhotoCache* cache_ = nullptr;  // null: photo_texture_ holds every photo
+  const PhotoCache* cache_ = nullptr;  // null: photo_texture_ holds every photo (else 0)
   bool cached_depth_ = false;          // depth_maps_ holds the cache's depth slots
   bool float_photos_ = false;          // RGBA16F photos (an HDR photo set), not 8-bit
   float photo_texels_[2] = {1, 1};     // the full-size photo array's texels (width, height)

@@ -220,7 +220,7 @@ void PhotoCache::Build(const std::vector<int>& counts) {
   staging_ = reduced ? MipmappedArray(format, layout_.width, layout_.height, 1, layout_.levels)
                      : MipmappedArray();
   slot_bytes_ = SplitBytes(counts);
-  HDRIBR_CHECK(slot_bytes_ <= std::max(plan_.pool_bytes, plan_.slot_bytes));
+  HDRIBR_CHECK(slot_bytes_ <= plan_.pool_bytes);
   map_dirty_ = true;
 }
 
