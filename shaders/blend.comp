@@ -133,6 +133,9 @@ const float u_filter = 0.0;
 
 const float kHalfPi = 1.5707963;
 const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
+const int kMarchSteps = 64;   // MarchDepth: steps along the ray before the bisection
+const float kMarchNear = 0.01;  // MarchDepth: nearest view depth searched, in scene scales
+const float kMarchTolerance = 0.05;  // MarchDepth: relative depth gap of a continuous surface
 const float kCubicMaxLod = 0.5;  // CUBIC: coarser levels of detail are sampled trilinearly
 
 // What a pixel shows: a point P with normal N (world) on a surface or on the background
@@ -194,6 +197,122 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   if (s.background) return any_empty ? 1.0 : 0.0;
   if (SOFT_VISIBILITY == 1) return float(agree) / 4.0;
   return agree > 0 ? 1.0 : 0.0;
+}
+
+// Photo i's depth map and its camera z at the view's ray point C + t d: in front (true) when the
+// map holds no point there or a farther one. False in `inside` when the point is behind photo i
+// or outside its frame.
+bool InFrontOf(int i, int layer, vec3 P, out bool inside, out float z_k, out float d_k) {
+  vec3 pk = (photos[i].cam_from_world * vec4(P, 1.0)).xyz;
+  z_k = pk.z;
+  d_k = 0.0;
+  inside = false;
+  if (pk.z <= 0.0) return false;
+  vec2 px = photos[i].intrinsics.xy * pk.xy / pk.z + photos[i].intrinsics.zw;
+  if (any(lessThan(px, vec2(0.0))) || any(greaterThanEqual(px, photos[i].size.xy))) return false;
+  inside = true;
+  ivec2 t = clamp(ivec2(px * photos[i].dmap.xy), ivec2(0), ivec2(photos[i].dmap.zw) - 1);
+  d_k = texelFetch(u_photo_depth, ivec3(t, layer), 0).r;
+  return d_k <= 0.0 || pk.z < d_k;
+}
+
+// The view depths [t.x, t.y] over which the ray C + t d lies in front of photo i and inside its
+// frame, within [t0, t1] (t1 <= 0: unbounded); t.x >= t.y when it never does. Each frame edge
+// and the photo's image plane are a linear condition a + b t >= 0 on t.
+vec2 FrustumSpan(int i, vec3 C, vec3 d, float t0, float t1) {
+  vec3 o = (photos[i].cam_from_world * vec4(C, 1.0)).xyz;
+  vec3 e = mat3(photos[i].cam_from_world) * d;
+  vec4 f = photos[i].intrinsics;
+  vec2 size = photos[i].size.xy;
+  vec2 span = vec2(t0, t1 > 0.0 ? t1 : 3.0e38);
+  vec2 conds[5];
+  conds[0] = vec2(o.z - 1e-3 * t0, e.z);
+  conds[1] = vec2(f.x * o.x + f.z * o.z, f.x * e.x + f.z * e.z);
+  conds[2] = vec2(size.x * o.z, size.x * e.z) - conds[1];
+  conds[3] = vec2(f.y * o.y + f.w * o.z, f.y * e.y + f.w * e.z);
+  conds[4] = vec2(size.y * o.z, size.y * e.z) - conds[3];
+  for (int c = 0; c < 5; ++c) {
+    float a = conds[c].x, b = conds[c].y;
+    if (b > 0.0) {
+      span.x = max(span.x, -a / b);
+    } else if (b < 0.0) {
+      span.y = min(span.y, -a / b);
+    } else if (a < 0.0) {
+      span.y = span.x;
+    }
+  }
+  return span;
+}
+
+// View depth (camera z) where the view's ray C + t d (d: camera z 1) first passes behind the
+// surface of photo i's depth map, searched where the ray is in photo i's frame between t0 and
+// t1 (t1 <= 0: infinity) in kMarchSteps steps uniform in inverse depth (uniform along the
+// epipolar line in the photo), then bisected; 0 when the ray meets no continuous surface there
+// (only silhouettes it passes behind, where the map's depth jumps away from the ray's).
+float MarchDepth(int i, vec3 C, vec3 d, float t0, float t1) {
+  int layer = CACHED_DEPTH == 1 ? depth_slot_of[i] : i;
+  if (layer < 0) return 0.0;
+  vec2 span = FrustumSpan(i, C, d, t0, t1);
+  if (span.x >= span.y) return 0.0;
+  float inv0 = 1.0 / span.x;
+  float inv1 = span.y < 3.0e38 ? 1.0 / span.y : 0.0;
+  bool prev_front = false;
+  float prev_inv = inv0;
+  for (int j = 0; j <= kMarchSteps; ++j) {
+    float inv = max(mix(inv0, inv1, float(j) / float(kMarchSteps)), 1e-3 * inv0);
+    bool inside;
+    float z_k, d_k;
+    bool front = InFrontOf(i, layer, C + d / inv, inside, z_k, d_k);
+    if (inside && !front && prev_front) {
+      float lo = prev_inv, hi = inv;  // in front at lo, behind at hi
+      for (int b = 0; b < 8; ++b) {
+        float mid = 0.5 * (lo + hi);
+        if (InFrontOf(i, layer, C + d / mid, inside, z_k, d_k)) {
+          lo = mid;
+        } else {
+          hi = mid;
+        }
+      }
+      InFrontOf(i, layer, C + d / hi, inside, z_k, d_k);
+      if (inside && d_k > 0.0 && z_k - d_k <= kMarchTolerance * d_k) return 1.0 / hi;
+    }
+    prev_front = inside && front;
+    prev_inv = inv;
+  }
+  return 0.0;
+}
+
+// Where a background sample that no photo passes (each photo's depth map holds a point where
+// the sample projects: a hole in the view's geometry) lies on the photos' surfaces: the view
+// depth at which its ray meets the depth map of one of the two photos with the smallest
+// Unstructured Lumigraph penalty (angle + distance, as in Weight) among those that frame it;
+// 0 when neither holds a continuous surface along the ray.
+float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
+  float p0 = 3.0e38, p1 = 3.0e38;
+  int i0 = -1, i1 = -1;
+  for (int a = 0; a < u_active_count; ++a) {
+    int i = active_photos[a];
+    vec2 px;
+    vec3 pk;
+    if (!ProjectInto(i, s, px, pk)) continue;
+    vec3 ck = photos[i].center.xyz;
+    float p = s.at_infinity ? length(ck - C) * u_inv_scene_scale
+                            : acos(clamp(dot(s.V, normalize(ck - s.P)), -1.0, 1.0)) +
+                                  abs(s.dist_c - length(ck - s.P)) * u_inv_scene_scale;
+    if (p < p0) {
+      p1 = p0;
+      i1 = i0;
+      p0 = p;
+      i0 = i;
+    } else if (p < p1) {
+      p1 = p;
+      i1 = i;
+    }
+  }
+  float t0 = kMarchNear / u_inv_scene_scale;
+  float t = i0 >= 0 ? MarchDepth(i0, C, d, t0, t_far) : 0.0;
+  if (t <= 0.0 && i1 >= 0) t = MarchDepth(i1, C, d, t0, t_far);
+  return t;
 }
 
 // True when photo i with ranking key `key` ranks before photo i2 with key2: a larger key, or
@@ -367,10 +486,11 @@ void main() {
   Sample s;
   s.background = z <= 0.0;
   s.at_infinity = s.background && BACKGROUND == 1;
-  if (s.background && BACKGROUND == 2) z = SphereDepth(C, mat3(u_world_from_cam) * ray);
+  vec3 ray_world = mat3(u_world_from_cam) * ray;
+  if (s.background && BACKGROUND == 2) z = SphereDepth(C, ray_world);
   if (z > 0.0 || s.at_infinity) {
     if (s.at_infinity) {
-      s.P = normalize(mat3(u_world_from_cam) * ray);
+      s.P = normalize(ray_world);
       s.V = -s.P;
       s.N = s.V;
       s.dist_c = 0.0;
@@ -383,116 +503,130 @@ void main() {
       s.N = dot(n, n) > 1e-8 ? normalize(mat3(u_world_from_cam) * n) : s.V;
       s.z_new = z;
     }
-    vec3 sum = vec3(0.0);
-    vec3 wsum = vec3(0.0);
-    float geo_sum = 0.0;
-    float debug_w = 0.0;
-    float count = 0.0;
-    // Candidates: every photo (paper, SUM_ALL), or the K best by weight, or the K + 1
-    // smallest penalties (Unstructured Lumigraph), kept sorted (Beats), so the list does not
-    // depend on the order the photos are visited in.
-    bool ulr = ULR == 1 && NEAREST == 0;
-    int k = ulr ? KEEP - 1 : KEEP;
-    float best_key[KEEP];
-    float best_w[KEEP];
-    float best_f[KEEP];
-    int best_i[KEEP];
-    vec3 best_uvl[KEEP];
-    for (int j = 0; j < KEEP; ++j) {
-      best_key[j] = -3.0e38;
-      best_w[j] = 0.0;
-      best_f[j] = 0.0;
-      best_i[j] = 0x7fffffff;
-      best_uvl[j] = vec3(0.0);
-    }
-    int n_best = 0;
-    for (int a = 0; a < u_active_count; ++a) {
-      int i = active_photos[a];
-      vec3 uvl;
-      float feather;
-      float penalty;
-      float w = Weight(i, s, ulr, best_key[KEEP - 1], uvl, feather, penalty);
-      if (w <= 0.0) continue;
-      if (SUM_ALL == 1) {  // all photos: accumulate directly
-        vec3 hat;
-        vec3 c = Blended(i, FetchFiltered(i, s, uvl, u_filter), hat);
-        sum += w * hat * c;
-        wsum += w * hat;
-        geo_sum += w;
-        count += 1.0;
-        if (i == u_debug_photo) debug_w = w;
-        continue;
-      }
-      float key = ulr ? -penalty : w;  // larger is better
-      if (!Beats(key, i, best_key[KEEP - 1], best_i[KEEP - 1])) continue;
-      // Carried down the list, swapping with every entry it beats: an insertion with constant
-      // indices; the entry carried past the end is dropped.
+    // A background pixel that no photo passes gets a second pass on the surface that the
+    // photos' depth maps hold along its ray (HoleDepth), rather than staying empty.
+    for (int pass = 0; pass < 2; ++pass) {
+      vec3 sum = vec3(0.0);
+      vec3 wsum = vec3(0.0);
+      float geo_sum = 0.0;
+      float debug_w = 0.0;
+      float count = 0.0;
+      // Candidates: every photo (paper, SUM_ALL), or the K best by weight, or the K + 1
+      // smallest penalties (Unstructured Lumigraph), kept sorted (Beats), so the list does not
+      // depend on the order the photos are visited in.
+      bool ulr = ULR == 1 && NEAREST == 0;
+      int k = ulr ? KEEP - 1 : KEEP;
+      float best_key[KEEP];
+      float best_w[KEEP];
+      float best_f[KEEP];
+      int best_i[KEEP];
+      vec3 best_uvl[KEEP];
       for (int j = 0; j < KEEP; ++j) {
-        if (Beats(key, i, best_key[j], best_i[j])) {
-          float t_key = best_key[j], t_w = best_w[j], t_f = best_f[j];
-          int t_i = best_i[j];
-          vec3 t_uvl = best_uvl[j];
-          best_key[j] = key;
-          best_w[j] = w;
-          best_f[j] = feather;
-          best_i[j] = i;
-          best_uvl[j] = uvl;
-          key = t_key;
-          w = t_w;
-          feather = t_f;
-          i = t_i;
-          uvl = t_uvl;
+        best_key[j] = -3.0e38;
+        best_w[j] = 0.0;
+        best_f[j] = 0.0;
+        best_i[j] = 0x7fffffff;
+        best_uvl[j] = vec3(0.0);
+      }
+      int n_best = 0;
+      for (int a = 0; a < u_active_count; ++a) {
+        int i = active_photos[a];
+        vec3 uvl;
+        float feather;
+        float penalty;
+        float w = Weight(i, s, ulr, best_key[KEEP - 1], uvl, feather, penalty);
+        if (w <= 0.0) continue;
+        if (SUM_ALL == 1) {  // all photos: accumulate directly
+          vec3 hat;
+          vec3 c = Blended(i, FetchFiltered(i, s, uvl, u_filter), hat);
+          sum += w * hat * c;
+          wsum += w * hat;
+          geo_sum += w;
+          count += 1.0;
+          if (i == u_debug_photo) debug_w = w;
+          continue;
         }
+        float key = ulr ? -penalty : w;  // larger is better
+        if (!Beats(key, i, best_key[KEEP - 1], best_i[KEEP - 1])) continue;
+        // Carried down the list, swapping with every entry it beats: an insertion with constant
+        // indices; the entry carried past the end is dropped.
+        for (int j = 0; j < KEEP; ++j) {
+          if (Beats(key, i, best_key[j], best_i[j])) {
+            float t_key = best_key[j], t_w = best_w[j], t_f = best_f[j];
+            int t_i = best_i[j];
+            vec3 t_uvl = best_uvl[j];
+            best_key[j] = key;
+            best_w[j] = w;
+            best_f[j] = feather;
+            best_i[j] = i;
+            best_uvl[j] = uvl;
+            key = t_key;
+            w = t_w;
+            feather = t_f;
+            i = t_i;
+            uvl = t_uvl;
+          }
+        }
+        n_best = min(n_best + 1, KEEP);
       }
-      n_best = min(n_best + 1, KEEP);
-    }
-    if (ulr && n_best > 0) {
-      // Threshold: the (K+1)-th penalty, or the paper's cosine horizon when fewer photos see P.
-      // (floored: K + 1 photos from exactly the view's direction would give 0 / 0).
-      float t = max(n_best > k ? -best_key[KEEP - 1] : kHalfPi, 1e-4);
-      n_best = min(n_best, k);
+      if (ulr && n_best > 0) {
+        // Threshold: the (K+1)-th penalty, or the paper's cosine horizon when fewer photos see P.
+        // (floored: K + 1 photos from exactly the view's direction would give 0 / 0).
+        float t = max(n_best > k ? -best_key[KEEP - 1] : kHalfPi, 1e-4);
+        n_best = min(n_best, k);
+        for (int j = 0; j < KEEP; ++j) {
+          float p = -best_key[j];
+          best_w[j] = j < n_best ? best_f[j] * max(0.0, 1.0 - p / t) / max(p, 1e-4) : 0.0;
+        }
+        if (best_w[0] <= 0.0) best_w[0] = 1.0;  // every penalty beyond the horizon: the best
+      }
+      vec3 stored[KEEP];
       for (int j = 0; j < KEEP; ++j) {
-        float p = -best_key[j];
-        best_w[j] = j < n_best ? best_f[j] * max(0.0, 1.0 - p / t) / max(p, 1e-4) : 0.0;
+        bool used = j < n_best && best_w[j] > 0.0;
+        stored[j] = used ? FetchFiltered(best_i[j], s, best_uvl[j], u_filter) : vec3(0.0);
+        if (!used) best_w[j] = 0.0;
       }
-      if (best_w[0] <= 0.0) best_w[0] = 1.0;  // every penalty beyond the horizon: the best
-    }
-    vec3 stored[KEEP];
-    for (int j = 0; j < KEEP; ++j) {
-      bool used = j < n_best && best_w[j] > 0.0;
-      stored[j] = used ? FetchFiltered(best_i[j], s, best_uvl[j], u_filter) : vec3(0.0);
-      if (!used) best_w[j] = 0.0;
-    }
 #if OUTLIER == 1
-    // One reweighting step (Cauchy's): photos whose value departs from the weighted mean by
-    // more than the scale (ghosts of wrong depth or occlusion, highlights) lose their weight.
-    vec3 mean = vec3(0.0);
-    float mean_w = 0.0;
-    for (int j = 0; j < KEEP; ++j) {
-      mean += best_w[j] * stored[j];
-      mean_w += best_w[j];
-    }
-    mean /= max(mean_w, 1e-30);
-    for (int j = 0; j < KEEP; ++j) {
-      vec3 r = (stored[j] - mean) / u_outlier_scale;
-      best_w[j] /= 1.0 + dot(r, r);
-    }
+      // One reweighting step (Cauchy's): photos whose value departs from the weighted mean by
+      // more than the scale (ghosts of wrong depth or occlusion, highlights) lose their weight.
+      vec3 mean = vec3(0.0);
+      float mean_w = 0.0;
+      for (int j = 0; j < KEEP; ++j) {
+        mean += best_w[j] * stored[j];
+        mean_w += best_w[j];
+      }
+      mean /= max(mean_w, 1e-30);
+      for (int j = 0; j < KEEP; ++j) {
+        vec3 r = (stored[j] - mean) / u_outlier_scale;
+        best_w[j] /= 1.0 + dot(r, r);
+      }
 #endif
-    for (int j = 0; j < KEEP; ++j) {
-      if (best_w[j] <= 0.0) continue;
-      vec3 hat;
-      vec3 c = Blended(best_i[j], stored[j], hat);
-      sum += best_w[j] * hat * c;
-      wsum += best_w[j] * hat;
-      geo_sum += best_w[j];
-      count += 1.0;
-      if (best_i[j] == u_debug_photo) debug_w = best_w[j];
-    }
-    if (count > 0.0 && all(greaterThan(wsum, vec3(0.0)))) {
-      color = vec4(sum / wsum, 1.0);
-      aux = vec4(count, debug_w / geo_sum, 0.0, 0.0);
-    } else {
-      aux = vec4(0.0);
+      for (int j = 0; j < KEEP; ++j) {
+        if (best_w[j] <= 0.0) continue;
+        vec3 hat;
+        vec3 c = Blended(best_i[j], stored[j], hat);
+        sum += best_w[j] * hat * c;
+        wsum += best_w[j] * hat;
+        geo_sum += best_w[j];
+        count += 1.0;
+        if (best_i[j] == u_debug_photo) debug_w = best_w[j];
+      }
+      if (count > 0.0 && all(greaterThan(wsum, vec3(0.0)))) {
+        color = vec4(sum / wsum, 1.0);
+        aux = vec4(count, debug_w / geo_sum, 0.0, 0.0);
+      } else {
+        aux = vec4(0.0);
+      }
+      if (color.a > 0.0 || !s.background) break;
+      float t = HoleDepth(s, C, ray_world, s.at_infinity ? 0.0 : z);
+      if (t <= 0.0) break;
+      s.background = false;
+      s.at_infinity = false;
+      s.P = C + t * ray_world;
+      s.dist_c = length(C - s.P);
+      s.V = (C - s.P) / s.dist_c;
+      s.N = s.V;  // unknown: facing the view
+      s.z_new = t;
     }
   }
   imageStore(u_out_color, p, color);

@@ -264,6 +264,55 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
     EXPECT_LT((p.Center() - sphere.head<3>()).norm(), sphere.w());
 }
 
+// A hole in the view's geometry that the photos' depth maps cover (points the view's depth pass
+// lacks): its pixels take the photos' surface, found along the ray, instead of staying empty.
+TEST_F(BlendPassTest, HolesInTheViewTakeThePhotosSurface) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  Renderer r(shaders, scene_);  // the photos' depth maps from every point
+  const int photo = 1;
+  r.SetActivePhotos(SameSeriesExcept(photo));
+  const RenderImages full = RenderPhotoView(r, photo);
+  // Remove the points about the back wall's middle (the sky behind it), top left in the view.
+  const cv::Point wall_px(full.depth.cols / 4, full.depth.rows / 5);
+  ASSERT_GT(full.depth.at<float>(wall_px), 0.0f);
+  const Photo& p = scene_.photos[static_cast<size_t>(photo)];
+  const Camera& cam = scene_.CameraOf(p);
+  const Eigen::Vector3d ray = cam.CamFromPixel({wall_px.x + 0.5, wall_px.y + 0.5});
+  const Eigen::Vector3d hole_centre =
+      p.cam_from_world.Inverse() * (ray * full.depth.at<float>(wall_px));
+  PointCloud holed;
+  for (size_t i = 0; i < scene_.points.size(); ++i) {
+    if ((scene_.points.positions[i].cast<double>() - hole_centre).norm() <
+        0.1 * scene_.scene_scale) {
+      continue;
+    }
+    holed.positions.push_back(scene_.points.positions[i]);
+    if (scene_.points.HasNormals()) holed.normals.push_back(scene_.points.normals[i]);
+    if (scene_.points.HasColors()) holed.colors.push_back(scene_.points.colors[i]);
+    if (scene_.points.HasRadii()) holed.radii.push_back(scene_.points.radii[i]);
+  }
+  r.depth_pass().SetPoints(holed);
+  const RenderImages im = RenderPhotoView(r, photo);
+  ExpectSane(im, 5);
+  const cv::Mat hole = (full.depth > 0) & (im.depth <= 0);
+  const int hole_px = cv::countNonZero(hole);
+  ASSERT_GT(hole_px, 100) << "no hole in the view's depth";
+  const double filled = static_cast<double>(cv::countNonZero(hole & im.valid)) / hole_px;
+  cv::Mat ref;
+  ReadImage(p.image_path).convertTo(ref, CV_32FC3);
+  const auto psnr = [&](const RenderImages& x) {
+    cv::Mat diff = x.color * 255.0 - ref;
+    diff = diff.mul(diff);
+    const cv::Scalar m = cv::mean(diff, hole & x.valid);
+    return 10.0 * std::log10(255.0 * 255.0 / ((m[0] + m[1] + m[2]) / 3));
+  };
+  std::printf("hole of %d px: %.1f%% filled, %.2f dB there (%.2f dB with every point)\n", hole_px,
+              100.0 * filled, psnr(im), psnr(full));
+  EXPECT_GT(filled, 0.9);
+  EXPECT_GT(psnr(im), psnr(full) - 3.0);
+}
+
 // One rule for every blend option, whatever the weights, checked before any upload.
 TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
   BlendOptions ok;
