@@ -134,6 +134,7 @@ const float u_filter = 0.0;
 const float kHalfPi = 1.5707963;
 const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
 const int kMarchSteps = 64;   // MarchDepth: steps along the ray before the bisection
+const int kMarchPhotos = 2;  // HoleDepth: photos marched, smallest penalty first
 const float kMarchNear = 0.01;  // MarchDepth: nearest view depth searched, in scene scales
 const float kMarchTolerance = 0.05;  // MarchDepth: relative depth gap of a continuous surface
 const float kCubicMaxLod = 0.5;  // CUBIC: coarser levels of detail are sampled trilinearly
@@ -284,12 +285,16 @@ float MarchDepth(int i, vec3 C, vec3 d, float t0, float t1) {
 
 // Where a background sample that no photo passes (each photo's depth map holds a point where
 // the sample projects: a hole in the view's geometry) lies on the photos' surfaces: the view
-// depth at which its ray meets the depth map of one of the two photos with the smallest
-// Unstructured Lumigraph penalty (angle + distance, as in Weight) among those that frame it;
-// 0 when neither holds a continuous surface along the ray.
+// depth at which its ray meets the depth map of the first of the kMarchPhotos photos with the
+// smallest Unstructured Lumigraph penalty (angle + distance, as in Weight) among those that
+// frame it that holds a continuous surface along the ray; 0 when none does.
 float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
-  float p0 = 3.0e38, p1 = 3.0e38;
-  int i0 = -1, i1 = -1;
+  float best_p[kMarchPhotos];
+  int best_i[kMarchPhotos];
+  for (int j = 0; j < kMarchPhotos; ++j) {
+    best_p[j] = 3.0e38;
+    best_i[j] = -1;
+  }
   for (int a = 0; a < u_active_count; ++a) {
     int i = active_photos[a];
     vec2 px;
@@ -299,20 +304,23 @@ float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
     float p = s.at_infinity ? length(ck - C) * u_inv_scene_scale
                             : acos(clamp(dot(s.V, normalize(ck - s.P)), -1.0, 1.0)) +
                                   abs(s.dist_c - length(ck - s.P)) * u_inv_scene_scale;
-    if (p < p0) {
-      p1 = p0;
-      i1 = i0;
-      p0 = p;
-      i0 = i;
-    } else if (p < p1) {
-      p1 = p;
-      i1 = i;
+    for (int j = 0; j < kMarchPhotos; ++j) {  // insertion with constant indices
+      if (p < best_p[j]) {
+        float t_p = best_p[j];
+        int t_i = best_i[j];
+        best_p[j] = p;
+        best_i[j] = i;
+        p = t_p;
+        i = t_i;
+      }
     }
   }
   float t0 = kMarchNear / u_inv_scene_scale;
-  float t = i0 >= 0 ? MarchDepth(i0, C, d, t0, t_far) : 0.0;
-  if (t <= 0.0 && i1 >= 0) t = MarchDepth(i1, C, d, t0, t_far);
-  return t;
+  for (int j = 0; j < kMarchPhotos; ++j) {
+    float t = best_i[j] >= 0 ? MarchDepth(best_i[j], C, d, t0, t_far) : 0.0;
+    if (t > 0.0) return t;
+  }
+  return 0.0;
 }
 
 // True when photo i with ranking key `key` ranks before photo i2 with key2: a larger key, or
