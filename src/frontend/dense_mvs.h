@@ -22,7 +22,7 @@ enum class DenseMethod { kPatchMatch, kSweep };
 struct PatchMatchOptions {
   int window_radius = 5;        // NCC window (2r+1)^2 ...
   int window_step = 2;          // ... sampled every step-th pixel
-  float sigma_color = 0.2f;     // bilateral weight: intensity scale ([0, 1] intensities)
+  float sigma_color = 0.1f;     // bilateral weight: intensity scale ([0, 1] intensities)
   int num_levels = 3;           // pyramid levels (coarse to fine, halving the size)
   int coarse_iterations = 4;    // iterations at the coarsest level
   int iterations = 2;           // iterations at each finer level
