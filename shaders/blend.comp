@@ -151,6 +151,15 @@ struct Sample {
   bool at_infinity;  // P holds a direction
 };
 
+// Places the sample at the world point P of view depth z (view centre C), facing the view.
+void PlaceAt(inout Sample s, vec3 C, vec3 P, float z) {
+  s.P = P;
+  s.dist_c = length(C - P);
+  s.V = (C - P) / s.dist_c;
+  s.N = s.V;
+  s.z_new = z;
+}
+
 // Camera z of the background sphere (centre u_sphere.xyz, radius u_sphere.w, around every
 // camera) along the world ray C + u d (d with camera z 1); 0 when the ray does not leave it.
 float SphereDepth(vec3 C, vec3 d) {
@@ -163,16 +172,37 @@ float SphereDepth(vec3 C, vec3 d) {
   return max((-b + sqrt(disc)) / a, 0.0);
 }
 
-// Where a sample projects in photo i, in the photo's camera pixels; false when it is behind
-// the photo or outside its frame. pk receives the point (or direction) in photo i's camera.
-bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
-  pk = s.at_infinity ? mat3(photos[i].cam_from_world) * s.P
-                     : (photos[i].cam_from_world * vec4(s.P, 1.0)).xyz;
+// Photo i's camera pixel of the point pk of its camera space; false when pk is behind the photo
+// or outside its frame.
+bool PixelIn(int i, vec3 pk, out vec2 px) {
   px = vec2(0.0);
   if (pk.z <= 0.0) return false;
   vec4 intr = photos[i].intrinsics;
   px = intr.xy * pk.xy / pk.z + intr.zw;
   return all(greaterThanEqual(px, vec2(0.0))) && all(lessThan(px, photos[i].size.xy));
+}
+
+// Unit direction V_k from the sample toward photo i's centre (V at infinity) and delta_k, the
+// difference of the distances |C - P| and |C_k - P| in scene scales (eq. 4); at infinity the
+// distance |C_k - C| between the centres (see Weight).
+vec3 TowardPhoto(int i, Sample s, out float delta) {
+  vec3 ck = photos[i].center.xyz;
+  if (s.at_infinity) {
+    delta = length(ck - u_world_from_cam[3].xyz) * u_inv_scene_scale;
+    return s.V;
+  }
+  vec3 vk = ck - s.P;
+  float dist_k = length(vk);
+  delta = abs(s.dist_c - dist_k) * u_inv_scene_scale;
+  return vk / dist_k;
+}
+
+// Where a sample projects in photo i, in the photo's camera pixels; false when it is behind
+// the photo or outside its frame. pk receives the point (or direction) in photo i's camera.
+bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
+  pk = s.at_infinity ? mat3(photos[i].cam_from_world) * s.P
+                     : (photos[i].cam_from_world * vec4(s.P, 1.0)).xyz;
+  return PixelIn(i, pk, px);
 }
 
 // Shadow-map test against photo i's depth map around px, on the 2x2 texels about the
@@ -207,11 +237,9 @@ bool InFrontOf(int i, int layer, vec3 P, out bool inside, out float z_k, out flo
   vec3 pk = (photos[i].cam_from_world * vec4(P, 1.0)).xyz;
   z_k = pk.z;
   d_k = 0.0;
-  inside = false;
-  if (pk.z <= 0.0) return false;
-  vec2 px = photos[i].intrinsics.xy * pk.xy / pk.z + photos[i].intrinsics.zw;
-  if (any(lessThan(px, vec2(0.0))) || any(greaterThanEqual(px, photos[i].size.xy))) return false;
-  inside = true;
+  vec2 px;
+  inside = PixelIn(i, pk, px);
+  if (!inside) return false;
   ivec2 t = clamp(ivec2(px * photos[i].dmap.xy), ivec2(0), ivec2(photos[i].dmap.zw) - 1);
   d_k = texelFetch(u_photo_depth, ivec3(t, layer), 0).r;
   return d_k <= 0.0 || pk.z < d_k;
@@ -265,16 +293,20 @@ float MarchDepth(int i, vec3 C, vec3 d, float t0, float t1) {
     float z_k, d_k;
     bool front = InFrontOf(i, layer, C + d / inv, inside, z_k, d_k);
     if (inside && !front && prev_front) {
-      float lo = prev_inv, hi = inv;  // in front at lo, behind at hi
+      float lo = prev_inv, hi = inv;  // in front at lo, behind at hi (inside, z_k, d_k at hi)
       for (int b = 0; b < 8; ++b) {
         float mid = 0.5 * (lo + hi);
-        if (InFrontOf(i, layer, C + d / mid, inside, z_k, d_k)) {
+        bool mid_inside;
+        float mid_z, mid_d;
+        if (InFrontOf(i, layer, C + d / mid, mid_inside, mid_z, mid_d)) {
           lo = mid;
         } else {
           hi = mid;
+          inside = mid_inside;
+          z_k = mid_z;
+          d_k = mid_d;
         }
       }
-      InFrontOf(i, layer, C + d / hi, inside, z_k, d_k);
       if (inside && d_k > 0.0 && z_k - d_k <= kMarchTolerance * d_k) return 1.0 / hi;
     }
     prev_front = inside && front;
@@ -300,10 +332,8 @@ float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
     vec2 px;
     vec3 pk;
     if (!ProjectInto(i, s, px, pk)) continue;
-    vec3 ck = photos[i].center.xyz;
-    float p = s.at_infinity ? length(ck - C) * u_inv_scene_scale
-                            : acos(clamp(dot(s.V, normalize(ck - s.P)), -1.0, 1.0)) +
-                                  abs(s.dist_c - length(ck - s.P)) * u_inv_scene_scale;
+    float delta;
+    float p = acos(clamp(dot(s.V, TowardPhoto(i, s, delta)), -1.0, 1.0)) + delta;
     for (int j = 0; j < kMarchPhotos; ++j) {  // insertion with constant indices
       if (p < best_p[j]) {
         float t_p = best_p[j];
@@ -346,21 +376,17 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
   vec3 pk;
   if (!ProjectInto(i, s, px, pk)) return 0.0;
   float cos_k = 1.0;
-  float delta = 0.0;
+  float delta;
+  vec3 vk = TowardPhoto(i, s, delta);  // eq. 4
   float footprint;  // photo texels per target pixel
   vec4 intr = photos[i].intrinsics;
   if (s.at_infinity) {
-    delta = length(photos[i].center.xyz - u_world_from_cam[3].xyz) * u_inv_scene_scale;
     // Angular size of a pixel: 1 / f_new in the view, 1 / f_i in the photo.
     footprint = intr.x / u_intrinsics.x * photos[i].size.z;
   } else {
-    vec3 vk = photos[i].center.xyz - s.P;
-    float dist_k = length(vk);
-    vk /= dist_k;
     // Grazing or back-facing (paper: N_p . V_k > lambda).
     if (dot(s.N, vk) <= u_lambda) return 0.0;
-    cos_k = max(0.0, dot(s.V, vk));                        // eq. 2
-    delta = abs(s.dist_c - dist_k) * u_inv_scene_scale;  // eq. 4, scene-scale units
+    cos_k = max(0.0, dot(s.V, vk));  // eq. 2
     // A target pixel covers z_new / f_new world units at P, which photo i sees over that
     // times f_i / z_i camera pixels, times its texels per camera pixel.
     footprint = s.z_new / u_intrinsics.x * intr.x / pk.z * photos[i].size.z;
@@ -504,15 +530,13 @@ void main() {
       s.dist_c = 0.0;
       s.z_new = 0.0;
     } else {
-      s.P = (u_world_from_cam * vec4(ray * z, 1.0)).xyz;
-      s.dist_c = length(C - s.P);
-      s.V = (C - s.P) / s.dist_c;
+      PlaceAt(s, C, (u_world_from_cam * vec4(ray * z, 1.0)).xyz, z);
       vec3 n = s.background ? vec3(0.0) : texelFetch(u_normal, p, 0).xyz;
-      s.N = dot(n, n) > 1e-8 ? normalize(mat3(u_world_from_cam) * n) : s.V;
-      s.z_new = z;
+      if (dot(n, n) > 1e-8) s.N = normalize(mat3(u_world_from_cam) * n);
     }
     // A background pixel that no photo passes gets a second pass on the surface that the
-    // photos' depth maps hold along its ray (HoleDepth), rather than staying empty.
+    // photos' depth maps hold along its ray (HoleDepth), rather than staying empty: a loop, so
+    // that the blend below is compiled once.
     for (int pass = 0; pass < 2; ++pass) {
       vec3 sum = vec3(0.0);
       vec3 wsum = vec3(0.0);
@@ -630,11 +654,7 @@ void main() {
       if (t <= 0.0) break;
       s.background = false;
       s.at_infinity = false;
-      s.P = C + t * ray_world;
-      s.dist_c = length(C - s.P);
-      s.V = (C - s.P) / s.dist_c;
-      s.N = s.V;  // unknown: facing the view
-      s.z_new = t;
+      PlaceAt(s, C, C + t * ray_world, t);
     }
   }
   imageStore(u_out_color, p, color);

@@ -64,13 +64,15 @@ class BlendPassTest : public ::testing::Test {
   }
 
   // PSNR (8-bit scale) of the render against photo `photo` over the valid pixels.
-  double Psnr(const RenderImages& im, int photo) const {
+  double Psnr(const RenderImages& im, int photo) const { return Psnr(im, photo, im.valid); }
+  // ... over the pixels of `mask`.
+  double Psnr(const RenderImages& im, int photo, const cv::Mat& mask) const {
     cv::Mat ref;
     ReadImage(scene_.photos[static_cast<size_t>(photo)].image_path).convertTo(ref, CV_32FC3);
     cv::Mat diff = im.color * 255.0 - ref;
     diff = diff.mul(diff);
-    const double mse = cv::mean(diff, im.valid)[0] / 3 + cv::mean(diff, im.valid)[1] / 3 +
-                       cv::mean(diff, im.valid)[2] / 3;
+    const cv::Scalar m = cv::mean(diff, mask);
+    const double mse = m[0] / 3 + m[1] / 3 + m[2] / 3;
     return 10.0 * std::log10(255.0 * 255.0 / std::max(mse, 1e-12));
   }
 
@@ -299,14 +301,7 @@ TEST_F(BlendPassTest, HolesInTheViewTakeThePhotosSurface) {
   const int hole_px = cv::countNonZero(hole);
   ASSERT_GT(hole_px, 100) << "no hole in the view's depth";
   const double filled = static_cast<double>(cv::countNonZero(hole & im.valid)) / hole_px;
-  cv::Mat ref;
-  ReadImage(p.image_path).convertTo(ref, CV_32FC3);
-  const auto psnr = [&](const RenderImages& x) {
-    cv::Mat diff = x.color * 255.0 - ref;
-    diff = diff.mul(diff);
-    const cv::Scalar m = cv::mean(diff, hole & x.valid);
-    return 10.0 * std::log10(255.0 * 255.0 / ((m[0] + m[1] + m[2]) / 3));
-  };
+  const auto psnr = [&](const RenderImages& x) { return Psnr(x, photo, hole & x.valid); };
   std::printf("hole of %d px: %.1f%% filled, %.2f dB there (%.2f dB with every point)\n", hole_px,
               100.0 * filled, psnr(im), psnr(full));
   EXPECT_GT(filled, 0.9);
