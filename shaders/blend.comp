@@ -6,7 +6,8 @@
 // P when P projects inside it, passes the shadow-map test against the photo's own depth map
 // and N_p . V_k > lambda (sec. 4, "Occlusion and visibility"). Beyond the paper, pixels
 // without depth can show a background (BACKGROUND): a sphere around the scene or a surface
-// at infinity, seen by the photos whose depth maps hold no point there either. Docs:
+// at infinity, seen by the photos whose depth maps hold no point there either, or the surface
+// that the photos' depth maps hold along the pixel's ray (HoleDepth). Docs:
 // docs/algorithms.md.
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -316,7 +317,8 @@ float MarchDepth(int i, vec3 C, vec3 d, float t0, float t1) {
 }
 
 // Where a background sample that no photo passes (each photo's depth map holds a point where
-// the sample projects: a hole in the view's geometry) lies on the photos' surfaces: the view
+// the sample projects: a hole in the view's geometry), or without a background a pixel without
+// depth (s: its ray's direction), lies on the photos' surfaces: the view
 // depth at which its ray meets the depth map of the first of the kMarchPhotos photos with the
 // smallest Unstructured Lumigraph penalty (angle + distance, as in Weight) among those that
 // frame it that holds a continuous surface along the ray; 0 when none does.
@@ -517,11 +519,24 @@ void main() {
   float z = texelFetch(u_depth, p, 0).r;
   vec3 ray = vec3((vec2(p) + 0.5 - u_intrinsics.zw) / u_intrinsics.xy, 1.0);
   vec3 C = u_world_from_cam[3].xyz;
+  const bool has_point = z > 0.0;
   Sample s;
-  s.background = z <= 0.0;
+  s.background = !has_point;
   s.at_infinity = s.background && BACKGROUND == 1;
   vec3 ray_world = mat3(u_world_from_cam) * ray;
   if (s.background && BACKGROUND == 2) z = SphereDepth(C, ray_world);
+#if BACKGROUND == 0
+  // Without a background, a pixel without depth can still lie on a surface that the photos'
+  // depth maps hold along its ray (a hole of the view's geometry; ranked as a direction).
+  if (s.background) {
+    s.at_infinity = true;
+    s.P = normalize(ray_world);
+    s.V = -s.P;
+    z = HoleDepth(s, C, ray_world, 0.0);
+    s.at_infinity = false;
+    s.background = z <= 0.0;
+  }
+#endif
   if (z > 0.0 || s.at_infinity) {
     if (s.at_infinity) {
       s.P = normalize(ray_world);
@@ -531,7 +546,7 @@ void main() {
       s.z_new = 0.0;
     } else {
       PlaceAt(s, C, (u_world_from_cam * vec4(ray * z, 1.0)).xyz, z);
-      vec3 n = s.background ? vec3(0.0) : texelFetch(u_normal, p, 0).xyz;
+      vec3 n = has_point ? texelFetch(u_normal, p, 0).xyz : vec3(0.0);
       if (dot(n, n) > 1e-8) s.N = normalize(mat3(u_world_from_cam) * n);
     }
     // A background pixel that no photo passes gets a second pass on the surface that the

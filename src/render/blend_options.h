@@ -40,7 +40,7 @@ inline constexpr float kMaxFilter = 0.5f;
 // Either surface is seen by a photo where the photo's own depth map has no point either.
 // The values are BACKGROUND of shaders/blend.comp.
 enum class Background {
-  kNone = 0,      // nothing: the pixel stays invalid (the paper)
+  kNone = 0,      // nothing: only the photos' surfaces along the ray, else the pixel stays invalid
   kInfinity = 1,  // a surface at infinity: each photo's pixel in the ray's direction
   kSphere = 2,    // a sphere around the points and the cameras (BackgroundSphere)
 };

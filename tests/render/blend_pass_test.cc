@@ -80,9 +80,8 @@ class BlendPassTest : public ::testing::Test {
     return static_cast<double>(cv::countNonZero(im.valid)) / static_cast<double>(im.valid.total());
   }
 
-  // Finite everywhere; invalid pixels exactly 0; count and weight consistent with validity;
-  // without a background, valid pixels have depth.
-  static void ExpectSane(const RenderImages& im, int active, bool background = true) {
+  // Finite everywhere; invalid pixels exactly 0; count and weight consistent with validity.
+  static void ExpectSane(const RenderImages& im, int active) {
     for (int y = 0; y < im.color.rows; ++y) {
       for (int x = 0; x < im.color.cols; ++x) {
         const cv::Vec3f c = im.color.at<cv::Vec3f>(y, x);
@@ -95,9 +94,6 @@ class BlendPassTest : public ::testing::Test {
         ASSERT_LE(n, static_cast<float>(active));
         if (im.valid.at<uint8_t>(y, x)) {
           ASSERT_GE(n, 1.0f);
-          if (!background) {
-            ASSERT_GT(im.depth.at<float>(y, x), 0.0f);
-          }
         } else {
           ASSERT_EQ(c, cv::Vec3f(0, 0, 0));
           ASSERT_EQ(n, 0.0f);
@@ -226,13 +222,14 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
   for (Background b : kAllBackgrounds) {
     r.blend_options().background = b;
     im[b] = RenderPhotoView(r, photo);
-    ExpectSane(im[b], 5, b != Background::kNone);
+    ExpectSane(im[b], 5);
   }
   const RenderImages& none = im[Background::kNone];
   const cv::Mat points = none.depth > 0;
   const cv::Mat no_point = none.depth <= 0;
   ASSERT_GT(cv::countNonZero(no_point), 500) << "the view shows no sky";
-  EXPECT_EQ(cv::countNonZero(none.valid & no_point), 0);
+  // Without a background only the photos' surfaces along the ray fill them: not the sky.
+  EXPECT_LT(cv::countNonZero(none.valid & no_point), cv::countNonZero(no_point) / 20);
   cv::Mat ref;
   ReadImage(scene_.photos[static_cast<size_t>(photo)].image_path).convertTo(ref, CV_32FC3);
   // Infinity fills the sky; the sphere also the floor beyond the points, which lies inside it.
@@ -295,17 +292,23 @@ TEST_F(BlendPassTest, HolesInTheViewTakeThePhotosSurface) {
     if (scene_.points.HasRadii()) holed.radii.push_back(scene_.points.radii[i]);
   }
   r.depth_pass().SetPoints(holed);
-  const RenderImages im = RenderPhotoView(r, photo);
-  ExpectSane(im, 5);
-  const cv::Mat hole = (full.depth > 0) & (im.depth <= 0);
-  const int hole_px = cv::countNonZero(hole);
-  ASSERT_GT(hole_px, 100) << "no hole in the view's depth";
-  const double filled = static_cast<double>(cv::countNonZero(hole & im.valid)) / hole_px;
-  const auto psnr = [&](const RenderImages& x) { return Psnr(x, photo, hole & x.valid); };
-  std::printf("hole of %d px: %.1f%% filled, %.2f dB there (%.2f dB with every point)\n", hole_px,
-              100.0 * filled, psnr(im), psnr(full));
-  EXPECT_GT(filled, 0.9);
-  EXPECT_GT(psnr(im), psnr(full) - 3.0);
+  // With the background sphere (the default) and without a background.
+  for (Background b : {Background::kSphere, Background::kNone}) {
+    r.blend_options().background = b;
+    const RenderImages im = RenderPhotoView(r, photo);
+    ExpectSane(im, 5);
+    const cv::Mat hole = (full.depth > 0) & (im.depth <= 0);
+    const int hole_px = cv::countNonZero(hole);
+    ASSERT_GT(hole_px, 100) << "no hole in the view's depth";
+    const double filled = static_cast<double>(cv::countNonZero(hole & im.valid)) / hole_px;
+    const auto psnr = [&](const RenderImages& x) { return Psnr(x, photo, hole & x.valid); };
+    std::printf(
+        "background %s, hole of %d px: %.1f%% filled, %.2f dB there (%.2f dB with every "
+        "point)\n",
+        BackgroundName(b).c_str(), hole_px, 100.0 * filled, psnr(im), psnr(full));
+    EXPECT_GT(filled, 0.9) << BackgroundName(b);
+    EXPECT_GT(psnr(im), psnr(full) - 3.0) << BackgroundName(b);
+  }
 }
 
 // One rule for every blend option, whatever the weights, checked before any upload.
