@@ -36,9 +36,13 @@ Eigen::Vector3d WorldNormal(const DepthMap& m, const Rigid3d& world_from_cam, in
 // Geometric consistency and fusion of one depth map: a depth survives when at least
 // min_consistent of its source photos' depth maps see the same surface within `consistency`
 // relative depth (and, with plane normals, max_normal_error); the fused point averages the
-// agreeing back-projections (and normals).
+// agreeing back-projections (and normals). The agreeing pixels of the other maps are marked in
+// `used` (one CV_8U mask per map) and make no point of their own, and the pixels already marked
+// in map i are skipped: one point per surface element rather than one per photo that sees it
+// (as COLMAP's fusion), so that the depth pass does not keep the nearest of several noisy
+// copies of a surface.
 DenseResult FuseDepthMap(const std::vector<DepthMap>& maps, const std::map<int, int>& index, int i,
-                         const DenseOptions& options) {
+                         const DenseOptions& options, std::vector<cv::Mat>& used) {
   DenseResult out;
   const DepthMap& ref = maps[i];
   if (ref.depth.empty()) return out;
@@ -46,10 +50,13 @@ DenseResult FuseDepthMap(const std::vector<DepthMap>& maps, const std::map<int, 
   const Eigen::Vector3d ref_center = world_from_ref.translation;
   const bool with_normals = !ref.normal.empty();
   const double min_normal_cos = std::cos(options.max_normal_error * M_PI / 180.0);
+  std::vector<std::pair<int, cv::Point>> merged;  // (map, pixel) of the agreeing depths
   for (int y = 0; y < ref.depth.rows; ++y) {
     for (int x = 0; x < ref.depth.cols; ++x) {
       const float z = ref.depth.at<float>(y, x);
       if (z <= 0) continue;
+      if (used[i].at<uint8_t>(y, x)) continue;
+      merged.clear();
       const Eigen::Vector3d xw =
           world_from_ref * (ref.camera.CamFromPixel({x + 0.5, y + 0.5}) * double(z));
       Eigen::Vector3d sum = xw;
@@ -72,11 +79,13 @@ DenseResult FuseDepthMap(const std::vector<DepthMap>& maps, const std::map<int, 
         const Eigen::Vector3d nb_normal = WorldNormal(nb, world_from_nb, u, v);
         if (with_normals && nb_normal.dot(ref_normal) < min_normal_cos) continue;
         ++agree;
+        merged.push_back({index.at(nid), cv::Point(u, v)});
         sum += world_from_nb * (nb.camera.CamFromPixel(px) * double(zn));
         dir += (world_from_nb.translation - xw).normalized();
         normal += nb_normal;
       }
       if (agree < options.min_consistent) continue;
+      for (const auto& [j, q] : merged) used[j].at<uint8_t>(q) = 1;
       const Eigen::Vector3d p = sum / (agree + 1);
       out.cloud.positions.push_back(p.cast<float>());
       const cv::Vec3b c = ref.color.at<cv::Vec3b>(y, x);
@@ -291,8 +300,11 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
     });
   }
 
+  // One map after the other: a map's pixels that an earlier map's points merged are used.
   std::vector<DenseResult> partial(n);
-  ParallelFor(n, threads, [&](int i) { partial[i] = FuseDepthMap(maps, index, i, options); });
+  std::vector<cv::Mat> used(n);
+  for (int i = 0; i < n; ++i) used[i] = cv::Mat::zeros(maps[i].depth.size(), CV_8U);
+  for (int i = 0; i < n; ++i) partial[i] = FuseDepthMap(maps, index, i, options, used);
   DenseResult result;
   for (auto& p : partial) {
     result.cloud.positions.insert(result.cloud.positions.end(), p.cloud.positions.begin(),

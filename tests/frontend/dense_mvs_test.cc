@@ -102,8 +102,10 @@ TEST(DenseMvs, RecoversASlantedPlaneAcrossExposures) {
     ASSERT_EQ(r.view_dirs.size(), r.cloud.size());
     ASSERT_EQ(r.cloud.colors.size(), r.cloud.size());
     ASSERT_EQ(r.cloud.normals.size(), method == DenseMethod::kSweep ? 0u : r.cloud.size());
-    // Most of the 4 x 160 x 120 pixels see the plane.
-    EXPECT_GT(r.cloud.size(), 4u * 160u * 120u / 3u);
+    // Each photo's 160 x 120 pixels see most of the plane, and its points merge those of the
+    // others: about one point per pixel of one photo, not one per pixel of every photo.
+    EXPECT_GT(r.cloud.size(), 160u * 120u / 2u);
+    EXPECT_LT(r.cloud.size(), 2u * 160u * 120u);
     size_t accurate = 0, normal_ok = 0;
     const Eigen::Vector3f truth = Eigen::Vector3f(0.3f, 0.f, -1.f).normalized();
     for (size_t i = 0; i < r.cloud.size(); ++i) {
