@@ -318,10 +318,10 @@ float MarchDepth(int i, vec3 C, vec3 d, float t0, float t1) {
 
 // Where a background sample that no photo passes (each photo's depth map holds a point where
 // the sample projects: a hole in the view's geometry), or without a background a pixel without
-// depth (s: its ray's direction), lies on the photos' surfaces: the view
-// depth at which its ray meets the depth map of the first of the kMarchPhotos photos with the
-// smallest Unstructured Lumigraph penalty (angle + distance, as in Weight) among those that
-// frame it that holds a continuous surface along the ray; 0 when none does.
+// depth (s: its ray's direction), lies on the photos' surfaces: the view depth at which its ray
+// meets the depth map of the first of the kMarchPhotos photos with the smallest Unstructured
+// Lumigraph penalty (angle + distance, as in Weight) among those that frame it that holds a
+// continuous surface along the ray; 0 when none does.
 float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
   float best_p[kMarchPhotos];
   int best_i[kMarchPhotos];
