@@ -208,7 +208,7 @@ TEST_F(DepthPassTest, SilhouetteStabilityOverOrbit) {
   // silhouette band (3 px around the GT silhouette) whose coverage flips and flips back on the
   // next frame (on, off, on or off, on, off): flicker.
   const AnalyticScene scene = AnalyticScene::SpheresOnly();
-  const PointCloud pc = scene.Sample(std::getenv("NPTS") ? std::atoi(std::getenv("NPTS")) : 20000);
+  const PointCloud pc = scene.Sample(20000);
   const Camera cam = test::TestCamera(256);
   DepthPass pass(*shaders_);
   pass.SetPoints(pc);
