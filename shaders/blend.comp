@@ -161,6 +161,15 @@ void PlaceAt(inout Sample s, vec3 C, vec3 P, float z) {
   s.z_new = z;
 }
 
+// Places the sample at infinity in the world direction d, facing the view.
+void PlaceAtInfinity(inout Sample s, vec3 d) {
+  s.P = normalize(d);
+  s.V = -s.P;
+  s.N = s.V;
+  s.dist_c = 0.0;
+  s.z_new = 0.0;
+}
+
 // Camera z of the background sphere (centre u_sphere.xyz, radius u_sphere.w, around every
 // camera) along the world ray C + u d (d with camera z 1); 0 when the ray does not leave it.
 float SphereDepth(vec3 C, vec3 d) {
@@ -530,8 +539,7 @@ void main() {
   // depth maps hold along its ray (a hole of the view's geometry; ranked as a direction).
   if (s.background) {
     s.at_infinity = true;
-    s.P = normalize(ray_world);
-    s.V = -s.P;
+    PlaceAtInfinity(s, ray_world);
     z = HoleDepth(s, C, ray_world, 0.0);
     s.at_infinity = false;
     s.background = z <= 0.0;
@@ -539,11 +547,7 @@ void main() {
 #endif
   if (z > 0.0 || s.at_infinity) {
     if (s.at_infinity) {
-      s.P = normalize(ray_world);
-      s.V = -s.P;
-      s.N = s.V;
-      s.dist_c = 0.0;
-      s.z_new = 0.0;
+      PlaceAtInfinity(s, ray_world);
     } else {
       PlaceAt(s, C, (u_world_from_cam * vec4(ray * z, 1.0)).xyz, z);
       vec3 n = has_point ? texelFetch(u_normal, p, 0).xyz : vec3(0.0);
