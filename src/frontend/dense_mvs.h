@@ -20,10 +20,13 @@ enum class DenseMethod { kPatchMatch, kSweep };
 
 // PatchMatch stereo parameters (frontend/patch_match.h).
 struct PatchMatchOptions {
-  int window_radius = 5;        // NCC window (2r+1)^2 ...
-  int window_step = 2;          // ... sampled every step-th pixel
-  float sigma_color = 0.1f;     // bilateral weight: intensity scale ([0, 1] intensities)
-  int num_levels = 3;           // pyramid levels (coarse to fine, halving the size)
+  int window_radius = 5;     // NCC window (2r+1)^2 ...
+  int window_step = 2;       // ... sampled every step-th pixel
+  float sigma_color = 0.1f;  // bilateral weight: intensity scale ([0, 1] intensities)
+  // Pyramid levels (coarse to fine, halving the size). Two by default: with more, the coarse
+  // planes, upsampled and held by their geometric guidance, bias small curved objects toward
+  // what surrounds them more than they help weak texture (docs/algorithms.md, "Front end").
+  int num_levels = 2;
   int coarse_iterations = 4;    // iterations at the coarsest level
   int iterations = 2;           // iterations at each finer level
   int geom_iterations = 1;      // iterations of the geometric-consistency pass (0: none)

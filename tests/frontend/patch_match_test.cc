@@ -110,7 +110,7 @@ TEST(PatchMatch, RecoversASlantedPlaneAcrossExposures) {
     ++calls;
     EXPECT_LE(done, total);
   });
-  EXPECT_EQ(calls, 16);  // 4 photos x (3 levels + the geometric pass)
+  EXPECT_EQ(calls, 12);  // 4 photos x (2 levels + the geometric pass)
   for (const DepthMap& m : maps) {
     ASSERT_EQ(m.depth.size(), m.gray.size());
     ASSERT_EQ(m.normal.type(), CV_32FC3);

@@ -117,8 +117,8 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
             << align.median / scene * 100 << "% of the scene size " << scene << "\n";
   EXPECT_LT(align.max, 0.01 * scene);
 
-  // Dense cloud: accuracy and completeness at 1% of the scene size (reported; asserted as in
-  // the issue).
+  // Dense cloud: accuracy and completeness at 1% of the scene size, asserted a little under
+  // the figures measured (docs/benchmarks.md, "Dense stage: two PatchMatch levels").
   const PointCloud dense = ReadPly(ws / "points.ply");
   ASSERT_TRUE(dense.HasNormals() && dense.HasRadii());
   auto to_pcl = [](const std::vector<Eigen::Vector3d>& pts) {
@@ -149,8 +149,8 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   const double completeness = share_within(gt_pts, dense_gt);
   std::cout << "dense: " << dense.size() << " points, accuracy " << accuracy * 100
             << "%, completeness " << completeness * 100 << "%\n";
-  EXPECT_GE(accuracy, 0.90);
-  EXPECT_GE(completeness, 0.70);
+  EXPECT_GE(accuracy, 0.98);
+  EXPECT_GE(completeness, 0.945);
 
   // The workspace loads, and a second run skips every finished stage.
   const auto inspect = test::RunCommand(Exe() + " -q inspect " + ws.string());
