@@ -36,6 +36,7 @@ struct PatchMatchOptions {
   float min_ncc = 0.3f;         // NCC of the best views needed to keep a depth
   float min_texture = 2e-5f;    // intensity variance of the window needed to keep a depth
   int seed_radius = 1;          // sparse-point depth seeds cover this radius at the coarsest
+  bool coarse_fill = true;      // pixels failing at full size keep a passing coarser plane
 };
 
 struct DenseOptions {

@@ -566,22 +566,41 @@ Result GeometricPass(const std::vector<std::vector<LevelImage>>& pyramids,
 }
 
 // Writes a state into a map's depth, normal and score (depth 0 where the NCC is too low or the
-// window too flat).
-void StoreState(const State& st, const PatchMatchOptions& pm, DepthMap& m) {
-  cv::Mat mean, var;
+// window too flat). With `coarse` (the next coarser level's result), a pixel that fails keeps
+// the coarse plane through its parent where that plane passed the same tests at its level.
+void StoreState(const State& st, const PatchMatchOptions& pm, const Result* coarse,
+                const LevelImage* coarse_image, const LevelImage& image, DepthMap& m) {
+  cv::Mat mean, var, coarse_var;
   WindowStats(m.gray, pm.window_radius, mean, var);
+  if (coarse) WindowStats(coarse_image->gray, pm.window_radius, mean, coarse_var);
   m.depth = cv::Mat::zeros(st.h, st.w, CV_32F);
   m.score = cv::Mat::zeros(st.h, st.w, CV_32F);
   m.normal = cv::Mat::zeros(st.h, st.w, CV_32FC3);
   for (int y = 0; y < st.h; ++y) {
     for (int x = 0; x < st.w; ++x) {
       const int i = y * st.w + x;
-      if (st.cost[i] >= kNoCost || st.ncc[i] < pm.min_ncc) continue;
-      if (var.at<float>(y, x) < pm.min_texture) continue;
-      m.depth.at<float>(y, x) = st.depth[i];
-      m.score.at<float>(y, x) = st.ncc[i];
-      m.normal.at<cv::Vec3f>(y, x) =
-          cv::Vec3f(st.normal[i].x(), st.normal[i].y(), st.normal[i].z());
+      float d = st.depth[i], score = st.ncc[i];
+      Vec3 n = st.normal[i];
+      if (st.cost[i] >= kNoCost || st.ncc[i] < pm.min_ncc || var.at<float>(y, x) < pm.min_texture) {
+        if (!coarse) continue;
+        const State& cs = coarse->state;
+        const int px = std::min(x / 2, cs.w - 1), py = std::min(y / 2, cs.h - 1);
+        const int j = py * cs.w + px;
+        if (cs.cost[j] >= kNoCost || cs.ncc[j] < pm.min_ncc ||
+            coarse_var.at<float>(py, px) < pm.min_texture) {
+          continue;
+        }
+        n = cs.normal[j];
+        const Vec3 ray_q = coarse_image->k_inv * Vec3(float(px), float(py), 1.f);
+        const Vec3 ray = image.k_inv * Vec3(float(x), float(y), 1.f);
+        const float denom = n.dot(ray);
+        if (!(denom < 0)) continue;
+        d = cs.depth[j] * n.dot(ray_q) / denom;
+        score = cs.ncc[j];
+      }
+      m.depth.at<float>(y, x) = d;
+      m.score.at<float>(y, x) = score;
+      m.normal.at<cv::Vec3f>(y, x) = cv::Vec3f(n.x(), n.y(), n.z());
     }
   }
 }
@@ -615,7 +634,7 @@ void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMat
   int done = 0;
   // Level by level over all photos, so that each finer level can use the sources' coarser
   // results.
-  std::vector<Result> results(n);
+  std::vector<Result> results(n), coarse;
   for (int level = levels - 1; level >= 0; --level) {
     std::vector<Result> next(n);
     for (int i = 0; i < n; ++i) {
@@ -624,6 +643,7 @@ void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMat
       }
       if (progress) progress(++done, total);
     }
+    if (level == 1) coarse = next;
     results = std::move(next);
   }
   if (geometric) {
@@ -640,7 +660,10 @@ void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMat
     maps[i].depth.release();
     maps[i].normal.release();
     maps[i].score.release();
-    if (!results[i].depth.empty()) StoreState(results[i].state, pm, maps[i]);
+    if (results[i].depth.empty()) continue;
+    const bool fill = pm.coarse_fill && !coarse.empty() && !coarse[i].depth.empty();
+    StoreState(results[i].state, pm, fill ? &coarse[i] : nullptr, fill ? &pyramids[i][1] : nullptr,
+               pyramids[i][0], maps[i]);
   }
 }
 

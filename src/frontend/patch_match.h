@@ -24,7 +24,8 @@ struct PatchMatchTask {
 // Computes depth, normal and score of every map with a task that has sources and a depth range
 // (`maps[i].gray`, `camera` and `cam_from_world` must be set); other maps get empty depth.
 // Pixels whose NCC is below options.patch_match.min_ncc, or whose window is flatter than
-// min_texture, get depth 0. Rows run on options.threads threads; `progress(done, total)` is
+// min_texture, keep the half-size level's plane where it passed those tests (coarse_fill), else
+// get depth 0. Rows run on options.threads threads; `progress(done, total)` is
 // called after each photo at each pyramid level and in the geometric pass.
 void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMatchTask>& tasks,
                          const DenseOptions& options,
