@@ -77,8 +77,8 @@ struct Figures {
   int pixels = 0, valid = 0, accurate = 0, normal_ok = 0, normal_ok10 = 0, within5 = 0;
 };
 
-// Depth within 1 % and normal within 5 (10) degrees of the truth, over pixels inside `area` (pixels
-// of photo 1, the centre camera).
+// Depth within 1 % (5 %) and normal within 5 (10) degrees of the truth, over pixels inside `area`
+// (pixels of photo 1, the centre camera).
 Figures Measure(const DepthMap& m, const cv::Rect& area) {
   Figures f;
   const Eigen::Vector3d center = m.cam_from_world.Inverse().translation;
