@@ -253,6 +253,7 @@ int Run(const BenchRenderOptions& opt) {
   }
   const nlohmann::json doc = {{"benchmark", "render"},
                               {"renderer", context.Renderer()},
+                              {"egl_platform", context.platform()},
                               {"note", "GPU times from GL timestamp queries; wall = CPU clock"},
                               {"results", results}};
   EmitJson(opt.json, doc);

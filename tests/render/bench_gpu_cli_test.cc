@@ -1,6 +1,7 @@
-// The standalone depth benchmark (hdribr-bench-depth, carried to GPU machines by
-// .ci/gpu-bench): it runs, its JSON holds every configuration, bad input gets one error line,
-// and it needs no shared library beyond those the bundle carries or the GPU machine has.
+// The standalone GPU benchmarks (hdribr-bench-gpu: `bench depth` and `bench render`, carried to
+// GPU machines by .ci/gpu-bench): each runs, its JSON holds every configuration, bad input gets
+// one error line, and it needs no shared library beyond those the bundle carries or the GPU
+// machine has.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,10 +18,10 @@
 namespace hdribr {
 namespace {
 
-std::string Exe() { return HDRIBR_BENCH_DEPTH_EXE; }
+std::string Exe() { return HDRIBR_BENCH_GPU_EXE; }
 
-TEST(BenchDepthCli, StandaloneRunsEveryConfiguration) {
-  const auto json = test::TempDir("bench_depth_cli") / "bench.json";
+TEST(BenchGpuCli, DepthRunsEveryConfiguration) {
+  const auto json = test::TempDir("bench_gpu_cli_depth") / "bench.json";
   const auto r = test::RunCommand(Exe() +
                                   " bench depth --sizes 64x48,40x40 --points 3000 --frames 1"
                                   " --modes plain,marroquim,lechelek --rasters compute,pipeline"
@@ -50,8 +51,28 @@ TEST(BenchDepthCli, StandaloneRunsEveryConfiguration) {
   EXPECT_EQ(doc["lechelek_over_marroquim"].size(), 4u);  // sizes x rasters
 }
 
-TEST(BenchDepthCli, BadSizeIsOneErrorLineAndNoJson) {
-  const auto json = test::TempDir("bench_depth_cli_bad") / "bench.json";
+TEST(BenchGpuCli, RenderRunsEveryConfiguration) {
+  const auto json = test::TempDir("bench_gpu_cli_render") / "bench.json";
+  const auto r = test::RunCommand(Exe() +
+                                  " bench render --sizes 64x48 --photos 3,5 --k-best 0,2"
+                                  " --candidates 0,4 --points 3000 --photo-size 64x48 --frames 1"
+                                  " --json " +
+                                  json.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(json);
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc["benchmark"], "render");
+  EXPECT_FALSE(doc["egl_platform"].get<std::string>().empty());
+  ASSERT_EQ(doc["results"].size(), 2u * 2u * 2u);  // photo counts x K x caps
+  for (const auto& res : doc["results"]) {
+    EXPECT_GT(res["depth_ms"].get<double>(), 0.0);
+    EXPECT_GT(res["blend_ms"].get<double>(), 0.0);
+    EXPECT_GT(res["valid_percent"].get<double>(), 50.0);  // the dome fills the view
+  }
+}
+
+TEST(BenchGpuCli, BadSizeIsOneErrorLineAndNoJson) {
+  const auto json = test::TempDir("bench_gpu_cli_bad") / "bench.json";
   const auto r =
       test::RunCommand(Exe() + " bench depth --sizes 64x --points 100 --json " + json.string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
@@ -65,7 +86,7 @@ TEST(BenchDepthCli, BadSizeIsOneErrorLineAndNoJson) {
 // its `system` pattern leaves to the GPU machine (glibc, the C++ runtime, GL/EGL through
 // glvnd). Each library the executable needs must thus be left to the GPU machine or resolve
 // here (and so be packed), and so must every library those need in turn.
-TEST(BenchDepthCli, BundleHoldsEveryNeededLibrary) {
+TEST(BenchGpuCli, BundleHoldsEveryNeededLibrary) {
   std::ifstream script(std::string(HDRIBR_SOURCE_DIR) + "/.ci/gpu-bench");
   ASSERT_TRUE(script) << "no .ci/gpu-bench";
   std::string pattern;
