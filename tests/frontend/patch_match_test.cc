@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <opencv2/imgproc.hpp>
 
 namespace hdribr {
@@ -102,6 +103,18 @@ Figures Measure(const DepthMap& m, const cv::Rect& area) {
 
 const Camera kCamera = Camera::Pinhole(1, 160, 120, 150, 150, 80, 60);
 
+// Figures in the weak square seen by the centre camera (photo 1; x, y in [-0.5, 0.5] at z ~ 4)
+// after PatchMatch on views of `texture` with the options that `configure` sets.
+Figures WeakSquareFigures(const cv::Mat& texture,
+                          const std::function<void(PatchMatchOptions&)>& configure) {
+  std::vector<DepthMap> maps = RenderViews(texture, kCamera);
+  DenseOptions o;
+  o.threads = 2;
+  configure(o.patch_match);
+  PatchMatchDepthMaps(maps, Tasks(maps, 0), o);
+  return Measure(maps[1], cv::Rect(68, 48, 24, 24));
+}
+
 TEST(PatchMatch, RecoversASlantedPlaneAcrossExposures) {
   std::vector<DepthMap> maps = RenderViews(Texture(1.f), kCamera);
   DenseOptions o;
@@ -133,15 +146,11 @@ TEST(PatchMatch, CoarseLevelsFillWeakTexture) {
   // resolution but spread over enough pixels at the coarse levels.
   const cv::Mat texture = Texture(0.02f);
   auto accurate_in_weak_area = [&](int levels) {
-    std::vector<DepthMap> maps = RenderViews(texture, kCamera);
-    DenseOptions o;
-    o.threads = 2;
-    o.patch_match.num_levels = levels;
-    o.patch_match.min_ncc = -1.f;  // the estimates themselves, not the output filter
-    o.patch_match.min_texture = 0.f;
-    PatchMatchDepthMaps(maps, Tasks(maps, 0), o);
-    // The weak square seen by the centre camera (photo index 1): x, y in [-0.5, 0.5] at z ~ 4.
-    const Figures f = Measure(maps[1], cv::Rect(68, 48, 24, 24));
+    const Figures f = WeakSquareFigures(texture, [&](PatchMatchOptions& o) {
+      o.num_levels = levels;
+      o.min_ncc = -1.f;  // the estimates themselves, not the output filter
+      o.min_texture = 0.f;
+    });
     return double(f.accurate) / f.pixels;
   };
   const double single = accurate_in_weak_area(1), multi = accurate_in_weak_area(3);
@@ -156,12 +165,7 @@ TEST(PatchMatch, CoarsePlanesFillWhatFailsAtFullSize) {
   // full size; the half-size level, whose windows span twice the texture, passes it there.
   const cv::Mat texture = Texture(0.03f);
   auto figures_in_weak_area = [&](bool fill) {
-    std::vector<DepthMap> maps = RenderViews(texture, kCamera);
-    DenseOptions o;
-    o.threads = 2;
-    o.patch_match.coarse_fill = fill;
-    PatchMatchDepthMaps(maps, Tasks(maps, 0), o);
-    return Measure(maps[1], cv::Rect(68, 48, 24, 24));
+    return WeakSquareFigures(texture, [&](PatchMatchOptions& o) { o.coarse_fill = fill; });
   };
   const Figures off = figures_in_weak_area(false), on = figures_in_weak_area(true);
   std::cout << "weak texture, 2 levels: valid " << 100.0 * off.valid / off.pixels
