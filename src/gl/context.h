@@ -20,8 +20,9 @@ class Context {
   virtual void MakeCurrent() = 0;
 };
 
-// Headless context through EGL: Mesa's surfaceless platform (EGL_PLATFORM_SURFACELESS_MESA),
-// falling back to the EGL device platform (NVIDIA) and then the default display. Throws
+// Headless context through EGL: the surfaceless platform (EGL_PLATFORM_SURFACELESS_MESA, which
+// Mesa and NVIDIA's EGL both offer), falling back to the EGL device platform and then the
+// default display. Throws
 // std::runtime_error with the reason when no 4.5 core context can be made.
 class HeadlessContext final : public Context {
  public:
