@@ -450,20 +450,32 @@ void Initialise(const Level& lv, State& st, const std::vector<Eigen::Vector3d>& 
   }
 }
 
+// The parent of pixel (x, y) at the next coarser level (`parent`: its index in `coarse`) and the
+// depth at which the parent's plane meets the ray of (x, y) (`k_inv`: this level's intrinsics).
+// False, leaving `depth` unset, when that ray does not meet the plane in front of the camera.
+bool ParentPlaneDepth(const State& coarse, const LevelImage& coarse_image, const Mat3& k_inv, int x,
+                      int y, int& parent, float& depth) {
+  const int px = std::min(x / 2, coarse.w - 1), py = std::min(y / 2, coarse.h - 1);
+  parent = py * coarse.w + px;
+  const Vec3& n = coarse.normal[parent];
+  const Vec3 ray_q = coarse_image.k_inv * Vec3(float(px), float(py), 1.f);
+  const Vec3 ray = k_inv * Vec3(float(x), float(y), 1.f);
+  const float denom = n.dot(ray);
+  if (!(denom < 0)) return false;
+  depth = coarse.depth[parent] * n.dot(ray_q) / denom;
+  return true;
+}
+
 // The coarser level's planes at the pixels of this level (nearest parent; the next iterations
 // refine them).
 void Upsample(const State& coarse, const LevelImage& coarse_image, const Level& lv, State& st) {
   for (int y = 0; y < st.h; ++y) {
     for (int x = 0; x < st.w; ++x) {
-      const int px = std::min(x / 2, coarse.w - 1), py = std::min(y / 2, coarse.h - 1);
-      const int j = py * coarse.w + px;
-      const Vec3& n = coarse.normal[j];
-      const Vec3 ray_q = coarse_image.k_inv * Vec3(float(px), float(py), 1.f);
-      const Vec3 ray = lv.ref->k_inv * Vec3(float(x), float(y), 1.f);
-      const float denom = n.dot(ray);
-      const float d = denom < 0 ? coarse.depth[j] * n.dot(ray_q) / denom : coarse.depth[j];
+      int j = 0;
+      float d = 0;
+      if (!ParentPlaneDepth(coarse, coarse_image, lv.ref->k_inv, x, y, j, d)) d = coarse.depth[j];
       st.depth[y * st.w + x] = std::clamp(d, lv.depth_min, lv.depth_max);
-      st.normal[y * st.w + x] = n;
+      st.normal[y * st.w + x] = coarse.normal[j];
     }
   }
 }
@@ -573,6 +585,11 @@ void StoreState(const State& st, const PatchMatchOptions& pm, const Result* coar
   cv::Mat mean, var, coarse_var;
   WindowStats(m.gray, pm.window_radius, mean, var);
   if (coarse) WindowStats(coarse_image->gray, pm.window_radius, mean, coarse_var);
+  // The output filter: no cost, NCC below min_ncc, or window variance below min_texture.
+  const auto fails = [&](const State& s, int i, const cv::Mat& window_var) {
+    return s.cost[i] >= kNoCost || s.ncc[i] < pm.min_ncc ||
+           window_var.at<float>(i / s.w, i % s.w) < pm.min_texture;
+  };
   m.depth = cv::Mat::zeros(st.h, st.w, CV_32F);
   m.score = cv::Mat::zeros(st.h, st.w, CV_32F);
   m.normal = cv::Mat::zeros(st.h, st.w, CV_32FC3);
@@ -581,21 +598,15 @@ void StoreState(const State& st, const PatchMatchOptions& pm, const Result* coar
       const int i = y * st.w + x;
       float d = st.depth[i], score = st.ncc[i];
       Vec3 n = st.normal[i];
-      if (st.cost[i] >= kNoCost || st.ncc[i] < pm.min_ncc || var.at<float>(y, x) < pm.min_texture) {
+      if (fails(st, i, var)) {
         if (!coarse) continue;
         const State& cs = coarse->state;
-        const int px = std::min(x / 2, cs.w - 1), py = std::min(y / 2, cs.h - 1);
-        const int j = py * cs.w + px;
-        if (cs.cost[j] >= kNoCost || cs.ncc[j] < pm.min_ncc ||
-            coarse_var.at<float>(py, px) < pm.min_texture) {
+        int j = 0;
+        if (!ParentPlaneDepth(cs, *coarse_image, image.k_inv, x, y, j, d) ||
+            fails(cs, j, coarse_var)) {
           continue;
         }
         n = cs.normal[j];
-        const Vec3 ray_q = coarse_image->k_inv * Vec3(float(px), float(py), 1.f);
-        const Vec3 ray = image.k_inv * Vec3(float(x), float(y), 1.f);
-        const float denom = n.dot(ray);
-        if (!(denom < 0)) continue;
-        d = cs.depth[j] * n.dot(ray_q) / denom;
         score = cs.ncc[j];
       }
       m.depth.at<float>(y, x) = d;
@@ -634,7 +645,7 @@ void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMat
   int done = 0;
   // Level by level over all photos, so that each finer level can use the sources' coarser
   // results.
-  std::vector<Result> results(n), coarse;
+  std::vector<Result> results(n), coarse;  // coarse: the half-size level's, for the fill
   for (int level = levels - 1; level >= 0; --level) {
     std::vector<Result> next(n);
     for (int i = 0; i < n; ++i) {
@@ -643,7 +654,7 @@ void PatchMatchDepthMaps(std::vector<DepthMap>& maps, const std::vector<PatchMat
       }
       if (progress) progress(++done, total);
     }
-    if (level == 1) coarse = next;
+    if (level == 0 && levels > 1) coarse = std::move(results);
     results = std::move(next);
   }
   if (geometric) {
