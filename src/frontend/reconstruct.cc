@@ -383,6 +383,41 @@ bool IsInside(const fs::path& child, const fs::path& parent) {
   return true;
 }
 
+// The options a stage's output depends on, written into its logs/<stage>.done marker: a
+// resumed run redoes a finished stage (and the ones after it) when they changed.
+std::string StageSettings(const Context& ctx, const std::string& stage,
+                          const std::string& matching) {
+  const ReconstructOptions& o = ctx.opt;
+  if (stage == "features") {
+    return fmt::format("camera_model={} max_features={} sift_max_size={}", o.camera_model,
+                       o.max_features, o.sift_max_size);
+  }
+  if (stage == "matching")
+    return fmt::format("matching={} vocab_tree={}", matching, o.vocab_tree.string());
+  if (stage == "undistortion") return fmt::format("image_size={}", o.undistort_max_size);
+  if (stage != "dense") return {};
+  std::string mode = o.dense;
+  if (mode == "auto") mode = ctx.caps.has_cuda ? "colmap" : "cpu";
+  const DenseOptions& d = o.dense_options;
+  const PatchMatchOptions& p = d.patch_match;
+  const AttributeOptions& a = o.attribute_options;
+  std::string s = fmt::format("dense={} attributes={},{},{},{}", mode, a.outlier_neighbors,
+                              a.outlier_stddev, a.normal_neighbors, a.radius_neighbors);
+  if (mode == "cpu" || mode == "sweep") {
+    s += fmt::format(" size={} neighbors={} fusion={},{},{}", d.max_size, d.num_neighbors,
+                     d.consistency, d.min_consistent, d.max_normal_error);
+  }
+  if (mode == "sweep") {
+    s += fmt::format(" sweep={},{},{}", d.num_depths, d.window_radius, d.min_ncc);
+  } else if (mode == "cpu") {
+    s += fmt::format(" patch_match={},{},{},{},{},{},{},{},{},{},{},{},{},{}", p.window_radius,
+                     p.window_step, p.sigma_color, p.num_levels, p.coarse_iterations, p.iterations,
+                     p.geom_iterations, p.geom_weight, p.geom_max_error, p.best_views, p.min_ncc,
+                     p.min_texture, p.seed_radius, p.coarse_fill);
+  }
+  return s;
+}
+
 }  // namespace
 
 const std::vector<std::string>& ReconstructStages() {
@@ -523,11 +558,18 @@ ReconstructReport Reconstruct(const ReconstructOptions& opt) {
   for (size_t s = 0; s < stages.size(); ++s) {
     const std::string& stage = stages[s];
     const fs::path marker = ctx.logs / (stage + ".done");
+    const std::string settings = StageSettings(ctx, stage, matching);
     if (!rerun && fs::exists(marker)) {
-      spdlog::info("reconstruct [{}/{}] {}: done before, skipped (--force to redo)", s + 1,
-                   stages.size(), stage);
-      if (stage == "mapping") model_dir = LargestModel(opt.workspace / "sfm", &sparse_model);
-      continue;
+      const std::string before = ReadFileToString(marker);
+      // An empty marker records no settings (stages without options, older workspaces).
+      if (before.empty() || before == settings) {
+        spdlog::info("reconstruct [{}/{}] {}: done before, skipped (--force to redo)", s + 1,
+                     stages.size(), stage);
+        if (stage == "mapping") model_dir = LargestModel(opt.workspace / "sfm", &sparse_model);
+        continue;
+      }
+      spdlog::info("reconstruct [{}/{}] {}: redone, its options changed (were: {})", s + 1,
+                   stages.size(), stage, before);
     }
     rerun = true;  // every later stage depends on this one
     std::error_code ec;
@@ -555,7 +597,7 @@ ReconstructReport Reconstruct(const ReconstructOptions& opt) {
       RunDense(ctx, progress, report);
     }
     report.times.push_back({stage, progress.Elapsed()});
-    WriteFileAtomic(marker, "");
+    WriteFileAtomic(marker, settings);
     if (stage == "mapping") {
       const auto missing = Unregistered(ctx, sparse_model);
       spdlog::info("registered {}/{} photos", sparse_model.images.size(), ctx.photos.size());
