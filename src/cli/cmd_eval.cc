@@ -1,6 +1,7 @@
 // `hdribr eval WORKSPACE (--leave-one-out | --gt CAPTURE)`: image quality of the renderer and
 // of two baselines (nearest-photo texturing, colour-per-point splats) on the same pixels;
-// `hdribr eval WORKSPACE --cameras GT_MODEL`: accuracy of the workspace's cameras.
+// `hdribr eval WORKSPACE --cameras GT_MODEL [--gt-points PLY]`: accuracy of the workspace's
+// cameras (and of its dense cloud).
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -13,12 +14,14 @@
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "eval/camera_accuracy.h"
+#include "eval/cloud_accuracy.h"
 #include "eval/hdr_novel.h"
 #include "eval/leave_one_out.h"
 #include "gl/context.h"
 #include "gl/shader_library.h"
 #include "io/atomic_file.h"
 #include "io/colmap_model.h"
+#include "io/ply.h"
 #include "io/radiometric_calibration.h"
 #include "io/workspace.h"
 #include "render/renderer.h"
@@ -30,7 +33,9 @@ struct EvalCliOptions {
   std::string workspace;
   bool leave_one_out = false;
   std::string gt;
-  std::string cameras;  // a ground-truth COLMAP model of the same photos
+  std::string cameras;    // a ground-truth COLMAP model of the same photos
+  std::string gt_points;  // a ground-truth point cloud in that model's frame
+  double cloud_tolerance = 0.01;
   std::vector<std::string> photos;
   std::string series;
   std::string out;
@@ -46,7 +51,25 @@ int RunCameras(const EvalCliOptions& opt) {
   const WorkspaceLayout layout = DetectWorkspace(opt.workspace);
   const ColmapModel reconstruction = ReadColmapModel(layout.sparse_dir);
   const ColmapModel gt = ReadColmapCameras(opt.cameras);
-  std::printf("%s", eval::FormatCameraAccuracy(eval::CompareCameras(reconstruction, gt)).c_str());
+  // Every input is read before anything is printed.
+  PointCloud dense, gt_points;
+  if (!opt.gt_points.empty()) {
+    if (layout.points_ply.empty()) {
+      throw InputError(layout.root, "has no dense point cloud to score (points.ply)");
+    }
+    gt_points = ReadPly(opt.gt_points);
+    if (gt_points.size() == 0) throw InputError(opt.gt_points, "has no points");
+    dense = ReadPly(layout.points_ply);
+    if (dense.size() == 0) throw InputError(layout.points_ply, "has no points");
+  }
+  const eval::CameraAccuracy cameras = eval::CompareCameras(reconstruction, gt);
+  std::printf("%s", eval::FormatCameraAccuracy(cameras).c_str());
+  if (opt.gt_points.empty()) return 0;
+  Bounds bounds;
+  for (const auto& p : gt_points.positions) bounds.Extend(p.cast<double>());
+  const eval::CloudAccuracy cloud = eval::CompareClouds(
+      dense, cameras.alignment.dst_from_src, gt_points, opt.cloud_tolerance * bounds.Diagonal());
+  std::printf("%s", eval::FormatCloudAccuracy(cloud).c_str());
   return 0;
 }
 
@@ -116,8 +139,18 @@ CommandRunner SetupEval(CLI::App& sub) {
   auto* cameras = sub.add_option("--cameras", opt->cameras,
                                  "Ground-truth COLMAP model of the same photos: score the "
                                  "workspace's cameras (similarity-aligned centres, rotations)");
+  auto* gt_points = sub.add_option("--gt-points", opt->gt_points,
+                                   "Ground-truth point cloud (PLY) in the --cameras model's frame: "
+                                   "also score the workspace's dense cloud (accuracy, "
+                                   "completeness)");
+  sub.add_option("--cloud-tolerance", opt->cloud_tolerance,
+                 "Distance within which a point counts as matched, as a share of the diagonal "
+                 "of the ground-truth cloud's bounding box")
+      ->default_val(0.01)
+      ->check(CLI::Range(1e-6, 1.0));
   loo->excludes(gt);
   cameras->excludes(loo)->excludes(gt);
+  gt_points->needs(cameras);
   sub.add_option("--photos", opt->photos, "Held-out photos (default: all of the series)")
       ->expected(1, -1);
   sub.add_option("--series", opt->series,

@@ -109,6 +109,23 @@ TEST(EvalCli, BadSelectionsAreOneClearError) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("rotations: median 0.000 deg, max 0.000 deg"), std::string::npos)
       << r.output;
+  // ... and its own cloud as the ground-truth cloud: every point matched, ICP keeps it.
+  const std::string points = ws + "/points.ply";
+  r = test::RunCommand(Exe() + " -q eval " + ws + " --cameras " + ws + "/sparse --gt-points " +
+                       points + " 2>&1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("accuracy 100.00%, completeness 100.00% aligned by the cameras; "
+                          "100.00%, 100.00% after ICP (rotation 0.000 deg"),
+            std::string::npos)
+      << r.output;
+  r = test::RunCommand(Exe() + " -q eval " + ws + " --cameras " + ws + "/sparse --gt-points " +
+                       (out / "none.ply").string() + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("none.ply"), std::string::npos) << r.output;
+  EXPECT_EQ(CountLines(r.output), 1) << r.output;
+  r = test::RunCommand(Exe() + " -q eval " + ws + " --gt-points " + points + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--cameras"), std::string::npos) << r.output;
   r = test::RunCommand(Exe() + " -q eval " + ws + " --gt " + out.string() + " 2>&1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("novel"), std::string::npos) << r.output;
