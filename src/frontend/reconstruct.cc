@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/exposure_series.h"
+#include "core/hash.h"
 #include "frontend/colmap_cli.h"
 #include "frontend/photo_folder.h"
 #include "io/atomic_file.h"
@@ -389,11 +390,20 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
                           const std::string& matching) {
   const ReconstructOptions& o = ctx.opt;
   if (stage == "features") {
-    return fmt::format("camera_model={} max_features={} sift_max_size={}", o.camera_model,
-                       o.max_features, o.sift_max_size);
+    // The photo set: names and file sizes, so that added, removed or replaced photos redo it.
+    Fnv1a64 photos;
+    for (const auto& p : ctx.photos) {
+      std::error_code ec;
+      photos.AddString(p.name).Add(
+          static_cast<std::uint64_t>(fs::file_size(o.photos / p.name, ec)));
+    }
+    return fmt::format("photos={} ({:016x}) camera_model={} max_features={} sift_max_size={}",
+                       ctx.photos.size(), photos.value(), o.camera_model, o.max_features,
+                       o.sift_max_size);
   }
-  if (stage == "matching")
+  if (stage == "matching") {
     return fmt::format("matching={} vocab_tree={}", matching, o.vocab_tree.string());
+  }
   if (stage == "undistortion") return fmt::format("image_size={}", o.undistort_max_size);
   if (stage != "dense") return {};
   std::string mode = o.dense;

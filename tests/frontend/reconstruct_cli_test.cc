@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "eval/alignment.h"
+#include "eval/camera_accuracy.h"
 #include "eval/cloud_accuracy.h"
 #include "io/colmap_model.h"
 #include "io/ply.h"
@@ -75,12 +75,6 @@ TEST(ReconstructCli, BadOptionsAreRefusedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir / "ws"));
 }
 
-std::map<std::string, Eigen::Vector3d> Centers(const ColmapModel& m) {
-  std::map<std::string, Eigen::Vector3d> out;
-  for (const auto& [id, im] : m.images) out[im.name] = im.cam_from_world.Inverse().translation;
-  return out;
-}
-
 TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   const fs::path dir = test::TempDir("rec_synth");
   const auto s = test::RunCommand(Exe() + " -q synth " + (dir / "cap").string() +
@@ -96,22 +90,14 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   const ColmapModel gt = ReadColmapModel(dir / "cap/gt");
   const ColmapModel rec = ReadColmapModel(ws / "sparse");
   EXPECT_EQ(rec.images.size(), gt.images.size());
-  const auto gt_c = Centers(gt), rec_c = Centers(rec);
-  std::vector<Eigen::Vector3d> src, dst;
-  for (const auto& [name, c] : rec_c) {
-    if (gt_c.count(name)) {
-      src.push_back(c);
-      dst.push_back(gt_c.at(name));
-    }
-  }
-  ASSERT_GE(src.size(), 3u);
-  const auto align = AlignSimilarity(src, dst);
+  const eval::CameraAccuracy cameras = eval::CompareCameras(rec, gt);
+  const SimilarityAlignment& align = cameras.alignment;
   const PointCloud gt_points = ReadPly(dir / "cap/gt/points.ply");
   Bounds b;
   for (const auto& p : gt_points.positions) b.Extend(p.cast<double>());
   const double scene = b.Diagonal();
-  std::cout << "camera centre error: max " << align.max / scene * 100 << "% median "
-            << align.median / scene * 100 << "% of the scene size " << scene << "\n";
+  std::cout << eval::FormatCameraAccuracy(cameras) << "camera centre error: max "
+            << align.max / scene * 100 << "% of the scene size " << scene << "\n";
   EXPECT_LT(align.max, 0.01 * scene);
 
   // Dense cloud: accuracy and completeness at 1% of the scene size, asserted a little under
@@ -168,6 +154,18 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   const double valid = cv::countNonZero(ch[3]) / static_cast<double>(rgba.total());
   std::cout << "render of the sparse workspace: " << valid * 100 << "% of the frame\n";
   EXPECT_GT(valid, 0.9);  // the sparse points' splats and the background sphere
+
+  // One photo fewer in the folder: the photo set changed, so every stage is redone.
+  const fs::path fewer = dir / "fewer";
+  fs::copy(dir / "cap/photos", fewer);
+  fs::remove(fewer / "s1_v03.jpg");
+  const auto redo = test::RunCommand(Exe() + " reconstruct " + fewer.string() + " " +
+                                     bare.string() + " --dense none 2>&1");
+  ASSERT_EQ(redo.exit_code, 0) << redo.output;
+  EXPECT_NE(redo.output.find("features: redone, its options changed (were: photos=24"),
+            std::string::npos)
+      << redo.output;
+  EXPECT_NE(redo.output.find("registered 23/23 photos"), std::string::npos) << redo.output;
 }
 
 TEST(ReconstructCli, MonstreeRegistersMostPhotos) {
