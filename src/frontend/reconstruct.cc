@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -384,11 +385,16 @@ bool IsInside(const fs::path& child, const fs::path& parent) {
   return true;
 }
 
-// The options a stage's output depends on, written into its logs/<stage>.done marker: a
-// resumed run redoes a finished stage (and the ones after it) when they changed.
+// The options a stage's output depends on, one "name=value" line each, written into its
+// logs/<stage>.done marker: a resumed run redoes a finished stage (and the ones after it) when
+// they changed.
 std::string StageSettings(const Context& ctx, const std::string& stage,
                           const std::string& matching) {
   const ReconstructOptions& o = ctx.opt;
+  std::string s;
+  const auto add = [&s](const char* name, const auto& value) {
+    s += fmt::format("{}={}\n", name, value);
+  };
   if (stage == "features") {
     // The photo set: names and file sizes, so that added, removed or replaced photos redo it.
     Fnv1a64 photos;
@@ -397,35 +403,80 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
       photos.AddString(p.name).Add(
           static_cast<std::uint64_t>(fs::file_size(o.photos / p.name, ec)));
     }
-    return fmt::format("photos={} ({:016x}) camera_model={} max_features={} sift_max_size={}",
-                       ctx.photos.size(), photos.value(), o.camera_model, o.max_features,
-                       o.sift_max_size);
-  }
-  if (stage == "matching") {
-    return fmt::format("matching={} vocab_tree={}", matching, o.vocab_tree.string());
-  }
-  if (stage == "undistortion") return fmt::format("image_size={}", o.undistort_max_size);
-  if (stage != "dense") return {};
-  std::string mode = o.dense;
-  if (mode == "auto") mode = ctx.caps.has_cuda ? "colmap" : "cpu";
-  const DenseOptions& d = o.dense_options;
-  const PatchMatchOptions& p = d.patch_match;
-  const AttributeOptions& a = o.attribute_options;
-  std::string s = fmt::format("dense={} attributes={},{},{},{}", mode, a.outlier_neighbors,
-                              a.outlier_stddev, a.normal_neighbors, a.radius_neighbors);
-  if (mode == "cpu" || mode == "sweep") {
-    s += fmt::format(" size={} neighbors={} fusion={},{},{}", d.max_size, d.num_neighbors,
-                     d.consistency, d.min_consistent, d.max_normal_error);
-  }
-  if (mode == "sweep") {
-    s += fmt::format(" sweep={},{},{}", d.num_depths, d.window_radius, d.min_ncc);
-  } else if (mode == "cpu") {
-    s += fmt::format(" patch_match={},{},{},{},{},{},{},{},{},{},{},{},{},{}", p.window_radius,
-                     p.window_step, p.sigma_color, p.num_levels, p.coarse_iterations, p.iterations,
-                     p.geom_iterations, p.geom_weight, p.geom_max_error, p.best_views, p.min_ncc,
-                     p.min_texture, p.seed_radius, p.coarse_fill);
+    add("photos", fmt::format("{} ({:016x})", ctx.photos.size(), photos.value()));
+    add("camera-model", o.camera_model);
+    add("max-features", o.max_features);
+    add("sift-size", o.sift_max_size);
+  } else if (stage == "matching") {
+    add("matching", matching);
+    add("vocab-tree", o.vocab_tree.string());
+  } else if (stage == "undistortion") {
+    add("image-size", o.undistort_max_size);
+  } else if (stage == "dense") {
+    std::string mode = o.dense;
+    if (mode == "auto") mode = ctx.caps.has_cuda ? "colmap" : "cpu";
+    add("dense", mode);
+    const AttributeOptions& a = o.attribute_options;
+    add("outlier-neighbors", a.outlier_neighbors);
+    add("outlier-stddev", a.outlier_stddev);
+    add("normal-neighbors", a.normal_neighbors);
+    add("radius-neighbors", a.radius_neighbors);
+    const DenseOptions& d = o.dense_options;
+    if (mode == "cpu" || mode == "sweep") {
+      add("dense-size", d.max_size);
+      add("dense-neighbors", d.num_neighbors);
+      add("fusion-consistency", d.consistency);
+      add("fusion-min-consistent", d.min_consistent);
+      add("fusion-max-normal-error", d.max_normal_error);
+    }
+    if (mode == "sweep") {
+      add("dense-depths", d.num_depths);
+      add("sweep-window-radius", d.window_radius);
+      add("sweep-min-ncc", d.min_ncc);
+    } else if (mode == "cpu") {
+      const PatchMatchOptions& p = d.patch_match;
+      add("window-radius", p.window_radius);
+      add("window-step", p.window_step);
+      add("sigma-color", p.sigma_color);
+      add("dense-levels", p.num_levels);
+      add("coarse-iterations", p.coarse_iterations);
+      add("dense-iterations", p.iterations);
+      add("dense-geom-iterations", p.geom_iterations);
+      add("geom-weight", p.geom_weight);
+      add("geom-max-error", p.geom_max_error);
+      add("best-views", p.best_views);
+      add("dense-min-ncc", p.min_ncc);
+      add("min-texture", p.min_texture);
+      add("seed-radius", p.seed_radius);
+      add("coarse-fill", p.coarse_fill);
+    }
   }
   return s;
+}
+
+// "name old -> new" for each setting that differs between two StageSettings texts.
+std::string ChangedSettings(const std::string& before, const std::string& now) {
+  const auto parse = [](const std::string& text) {
+    std::map<std::string, std::string> m;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+      const size_t eq = line.find('=');
+      if (eq != std::string::npos) m[line.substr(0, eq)] = line.substr(eq + 1);
+    }
+    return m;
+  };
+  const auto a = parse(before), b = parse(now);
+  std::set<std::string> names;
+  for (const auto& [k, v] : a) names.insert(k);
+  for (const auto& [k, v] : b) names.insert(k);
+  std::string out;
+  for (const auto& name : names) {
+    const auto ia = a.find(name), ib = b.find(name);
+    const std::string va = ia == a.end() ? "(none)" : ia->second;
+    const std::string vb = ib == b.end() ? "(none)" : ib->second;
+    if (va != vb) out += (out.empty() ? "" : ", ") + name + " " + va + " -> " + vb;
+  }
+  return out;
 }
 
 }  // namespace
@@ -578,8 +629,8 @@ ReconstructReport Reconstruct(const ReconstructOptions& opt) {
         if (stage == "mapping") model_dir = LargestModel(opt.workspace / "sfm", &sparse_model);
         continue;
       }
-      spdlog::info("reconstruct [{}/{}] {}: redone, its options changed (were: {})", s + 1,
-                   stages.size(), stage, before);
+      spdlog::info("reconstruct [{}/{}] {}: redone, its options changed: {}", s + 1, stages.size(),
+                   stage, ChangedSettings(before, settings));
     }
     rerun = true;  // every later stage depends on this one
     std::error_code ec;

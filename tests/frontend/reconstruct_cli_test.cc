@@ -132,7 +132,8 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   ASSERT_EQ(none.exit_code, 0) << none.output;
   EXPECT_NE(none.output.find("undistortion: done before, skipped"), std::string::npos)
       << none.output;
-  EXPECT_NE(none.output.find("dense: redone, its options changed"), std::string::npos)
+  EXPECT_NE(none.output.find("dense: redone, its options changed: dense-min-ncc 0.3 -> 1\n"),
+            std::string::npos)
       << none.output;
   EXPECT_NE(none.output.find("the workspace keeps the sparse points"), std::string::npos)
       << none.output;
@@ -162,7 +163,7 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   const auto redo = test::RunCommand(Exe() + " reconstruct " + fewer.string() + " " +
                                      bare.string() + " --dense none 2>&1");
   ASSERT_EQ(redo.exit_code, 0) << redo.output;
-  EXPECT_NE(redo.output.find("features: redone, its options changed (were: photos=24"),
+  EXPECT_NE(redo.output.find("features: redone, its options changed: photos 24 ("),
             std::string::npos)
       << redo.output;
   EXPECT_NE(redo.output.find("registered 23/23 photos"), std::string::npos) << redo.output;
