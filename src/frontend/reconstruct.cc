@@ -79,6 +79,12 @@ struct Context {
   int call_index = 0;
 };
 
+// The dense method that runs: `auto` is COLMAP's PatchMatch where it has CUDA, else ours.
+std::string DenseMode(const Context& ctx) {
+  if (ctx.opt.dense != "auto") return ctx.opt.dense;
+  return ctx.caps.has_cuda ? "colmap" : "cpu";
+}
+
 // Adds "--name value" when this colmap knows one of the candidate names.
 void AddOption(std::vector<std::string>& args, const Context& ctx,
                const std::vector<std::string>& candidates, const std::string& value) {
@@ -307,8 +313,7 @@ DenseResult SparseCloud(const ColmapModel& model) {
 
 void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) {
   const ColmapModel model = ReadColmapModel(ctx.opt.workspace / "sparse");
-  std::string mode = ctx.opt.dense;
-  if (mode == "auto") mode = ctx.caps.has_cuda ? "colmap" : "cpu";
+  const std::string mode = DenseMode(ctx);
   DenseResult dense;
   auto t0 = Clock::now();
   if (mode == "cpu" || mode == "sweep") {
@@ -413,8 +418,7 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
   } else if (stage == "undistortion") {
     add("image-size", o.undistort_max_size);
   } else if (stage == "dense") {
-    std::string mode = o.dense;
-    if (mode == "auto") mode = ctx.caps.has_cuda ? "colmap" : "cpu";
+    const std::string mode = DenseMode(ctx);
     add("dense", mode);
     const AttributeOptions& a = o.attribute_options;
     add("outlier-neighbors", a.outlier_neighbors);

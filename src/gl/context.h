@@ -22,8 +22,8 @@ class Context {
 
 // Headless context through EGL: the surfaceless platform (EGL_PLATFORM_SURFACELESS_MESA, which
 // Mesa and NVIDIA's EGL both offer), falling back to the EGL device platform and then the
-// default display. Throws
-// std::runtime_error with the reason when no 4.5 core context can be made.
+// default display. Throws std::runtime_error with the reason when no 4.5 core context can be
+// made.
 class HeadlessContext final : public Context {
  public:
   HeadlessContext();
