@@ -109,6 +109,7 @@ int Run(const EvalCliOptions& opt) {
   std::printf("%s of %s, series %s, %zu views (%s)\n", report.kind.c_str(), opt.workspace.c_str(),
               report.series.c_str(), report.views.size(), context.Renderer().c_str());
   std::printf("%s", eval::FormatMeanTable(report).c_str());
+  std::printf("%s", eval::FormatDepthLine(report).c_str());
   if (!opt.out.empty()) {
     std::printf("wrote %s/eval.csv, eval.json and views/*.png\n", opt.out.c_str());
   }

@@ -7,8 +7,10 @@
 #include <map>
 #include <memory>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "core/error.h"
+#include "eval/depth_accuracy.h"
 #include "eval/gt_views.h"
 #include "eval/point_colors.h"
 #include "eval/radiance_setup.h"
@@ -218,18 +220,18 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
                                     render_scene->photos[static_cast<size_t>(v.held_out)]));
   };
   render::Renderer renderer(shaders, *render_scene, renderer_options);
-  // The perfect-depth reference: the same blend on the capture's GT depth maps.
-  std::filesystem::path depth_capture;
-  if (options.depth_source != "splat") depth_capture = FindGtCapture(scene, options.gt_capture);
+  // The GT depth maps of the photos (a synthetic capture's own workspace): the depth pass is
+  // scored against them, and the perfect-depth reference blends on them.
+  const std::filesystem::path depth_capture = FindGtCapture(scene, options.gt_capture);
   if (options.depth_source == "gt" && depth_capture.empty()) {
     throw UsageError(
         "--depth-source gt: the workspace's cameras are not a synthetic capture's "
         "ground truth (use the capture's own workspace)");
   }
   std::vector<cv::Mat> gt_depths;
+  if (!depth_capture.empty()) gt_depths = ReadGtPhotoDepths(scene, depth_capture);
   std::unique_ptr<render::Renderer> gt_renderer;
-  if (!depth_capture.empty()) {
-    gt_depths = ReadGtPhotoDepths(scene, depth_capture);
+  if (!depth_capture.empty() && options.depth_source != "splat") {
     render::RendererOptions o = renderer_options;
     o.photo_depths = gt_depths;
     gt_renderer = std::make_unique<render::Renderer>(shaders, *render_scene, o);
@@ -300,6 +302,13 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     render::RenderImages r =
         renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
     images.push_back({"hdribr", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0)});
+    // The depth pass against GT depth, pixel for pixel: at the view's full size only.
+    std::optional<DepthCounts> depth_counts;
+    if (view_gt_depth.type() == CV_32FC1 && view_gt_depth.size() == size) {
+      depth_counts = CompareDepth(r.depth, view_gt_depth);
+    } else if (view_gt_depth.type() == CV_32FC1) {
+      report.settings["depth_accuracy"] = "needs --size-scale 1";
+    }
     if (gt_renderer) {
       if (view_gt_depth.type() != CV_32FC1) {
         throw InputError(depth_capture / "gt", "no ground-truth depth of view '" + v.name + "'");
@@ -340,6 +349,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     vr.name = v.name;
     vr.width = size.width;
     vr.height = size.height;
+    vr.depth = depth_counts;
     const double total = static_cast<double>(size.area());
     for (const MethodImage& m : images) {
       MethodScores s;

@@ -31,6 +31,12 @@ nlohmann::json ScoresJson(const MethodScores& m) {
           {"pixels", m.scores.pixels}};
 }
 
+nlohmann::json DepthJson(const DepthCounts& c) {
+  return {{"accuracy", c.accuracy()},        {"too_near", c.Share(c.too_near)},
+          {"too_deep", c.Share(c.too_deep)}, {"missing", c.Share(c.missing)},
+          {"leakage", c.leakage()},          {"gt_pixels", c.covered}};
+}
+
 std::string CsvRow(const std::string& view, const MethodScores& m) {
   return view + "," + m.method + "," + Num(m.scores.psnr_db, 4) + "," + Num(m.scores.ssim, 5) +
          "," + Num(m.scores.coverage, 5) + "," + Num(m.own_coverage, 5) + "," +
@@ -87,6 +93,16 @@ std::vector<MethodScores> MeanScores(const EvalReport& report) {
   return out;
 }
 
+std::optional<DepthCounts> TotalDepthCounts(const EvalReport& report) {
+  std::optional<DepthCounts> total;
+  for (const ViewReport& v : report.views) {
+    if (!v.depth) continue;
+    if (!total) total.emplace();
+    *total += *v.depth;
+  }
+  return total;
+}
+
 std::string FormatCsv(const EvalReport& report) {
   std::string s =
       "view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,own_psnr_db,own_ssim,"
@@ -110,13 +126,16 @@ std::string FormatJson(const EvalReport& report) {
   for (const ViewReport& v : report.views) {
     nlohmann::json methods = nlohmann::json::array();
     for (const MethodScores& m : v.methods) methods.push_back(ScoresJson(m));
-    views.push_back(
-        {{"view", v.name}, {"width", v.width}, {"height", v.height}, {"methods", methods}});
+    nlohmann::json view = {
+        {"view", v.name}, {"width", v.width}, {"height", v.height}, {"methods", methods}};
+    if (v.depth) view["depth"] = DepthJson(*v.depth);
+    views.push_back(view);
   }
   j["views"] = views;
   nlohmann::json mean = nlohmann::json::array();
   for (const MethodScores& m : MeanScores(report)) mean.push_back(ScoresJson(m));
   j["mean"] = mean;
+  if (const auto depth = TotalDepthCounts(report)) j["depth"] = DepthJson(*depth);
   return j.dump(2) + "\n";
 }
 
@@ -140,6 +159,18 @@ std::string FormatMeanTable(const EvalReport& report) {
     s << line;
   }
   return s.str();
+}
+
+std::string FormatDepthLine(const EvalReport& report) {
+  const auto c = TotalDepthCounts(report);
+  if (!c) return "";
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "depth pass: %.2f%% of the GT surface pixels within %g%% of GT depth (too near "
+                "%.2f%%, too deep %.2f%%, missing %.2f%%), leakage %.3f%%\n",
+                100.0 * c->accuracy(), 100.0 * kDepthTolerance, 100.0 * c->Share(c->too_near),
+                100.0 * c->Share(c->too_deep), 100.0 * c->Share(c->missing), 100.0 * c->leakage());
+  return line;
 }
 
 cv::Mat CommonMask(const std::vector<cv::Mat>& masks) {

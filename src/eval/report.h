@@ -4,11 +4,13 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "eval/depth_accuracy.h"
 #include "eval/metrics.h"
 
 namespace hdribr::eval {
@@ -28,6 +30,8 @@ struct ViewReport {
   std::string name;
   int width = 0, height = 0;
   std::vector<MethodScores> methods;
+  // hdribr's depth pass against the view's GT depth (synthetic captures, full size only).
+  std::optional<DepthCounts> depth;
 };
 
 struct EvalReport {
@@ -42,9 +46,12 @@ struct EvalReport {
 // with coverage 0 and excluded from the PSNR/SSIM means), in first-appearance order.
 std::vector<MethodScores> MeanScores(const EvalReport& report);
 
+// The views' depth counts added up; nullopt when no view has them.
+std::optional<DepthCounts> TotalDepthCounts(const EvalReport& report);
+
 // CSV: header "view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,own_psnr_db,
 // own_ssim,pixels", one row per view and method, then rows named "mean". JSON: {kind, workspace,
-// series, settings, views: [...], mean: [...]} (docs/formats.md). Both written atomically.
+// series, settings, views: [...], mean: [...], depth} (docs/formats.md). Both written atomically.
 std::string FormatCsv(const EvalReport& report);
 std::string FormatJson(const EvalReport& report);
 void WriteReport(const EvalReport& report, const std::filesystem::path& csv_path,
@@ -52,6 +59,9 @@ void WriteReport(const EvalReport& report, const std::filesystem::path& csv_path
 
 // A readable table of the means for the terminal.
 std::string FormatMeanTable(const EvalReport& report);
+
+// One line on the depth pass's accuracy over the views (TotalDepthCounts); empty without it.
+std::string FormatDepthLine(const EvalReport& report);
 
 // Intersection of 8-bit masks (non-zero = valid) of equal size; CV_8UC1 of 0/255.
 cv::Mat CommonMask(const std::vector<cv::Mat>& masks);

@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 
 #include "core/error.h"
 #include "eval/hdr_novel.h"
@@ -63,6 +64,21 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
   const std::vector<MethodScores> mean = MeanScores(report);
   EXPECT_GT(mean[0].scores.psnr_db, mean[2].scores.psnr_db);  // hdribr beats colour per point
   EXPECT_TRUE(fs::exists(options.out_dir / "eval.json"));
+  // The depth pass against the held-out photos' GT depth (full size only).
+  std::cout << FormatDepthLine(report);
+  const std::optional<DepthCounts> depth = TotalDepthCounts(report);
+  if (options.size_scale == 1.0) {
+    ASSERT_TRUE(depth.has_value());
+    for (const ViewReport& v : report.views) {
+      ASSERT_TRUE(v.depth.has_value());
+      EXPECT_EQ(v.depth->covered + v.depth->empty, static_cast<long>(v.width) * v.height);
+    }
+    EXPECT_GT(depth->accuracy(), 0.97);
+    EXPECT_LT(depth->leakage(), 0.005);
+  } else {
+    EXPECT_FALSE(depth.has_value());
+    EXPECT_EQ(report.settings.at("depth_accuracy"), "needs --size-scale 1");
+  }
 
   // Ground truth novel views of the same capture, with the perfect-depth reference ("auto"
   // finds the capture's GT depth): scored on the same pixels, close to hdribr.
@@ -79,7 +95,9 @@ TEST(LeaveOneOut, ScoresEveryMethodOnTheSamePixels) {
     EXPECT_EQ(v.methods[1].scores.pixels, v.methods[0].scores.pixels);
     EXPECT_GT(v.methods[1].own_coverage, 0.9 * v.methods[0].own_coverage);
     EXPECT_NEAR(v.methods[1].scores.psnr_db, v.methods[0].scores.psnr_db, 3.0);
+    EXPECT_EQ(v.depth.has_value(), options.size_scale == 1.0);
   }
+  std::cout << FormatDepthLine(gt);
   // HDR-NeRF's figures at the same views: radiance re-exposed at the input and at new
   // exposures, and the mu-law HDR score.
   const HdrNovelReport hdr = RunHdrNovelEvaluation(scene, shaders, options);

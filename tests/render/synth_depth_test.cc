@@ -81,11 +81,10 @@ TEST(SynthDepthTest, AccuracyOnSyntheticCapture) {
     const Scores scores = score(DepthModeName(mode));
     if (mode == DepthMode::kLechelek) {
       trimmed = scores;
-      // Issue 4 leakage target (met).
+      // Leakage: at most 0.5 % of the covered pixels show a farther surface.
       EXPECT_LE(scores.input.leakage(), 0.005);
       EXPECT_LE(scores.novel.leakage(), 0.005);
-      // Accuracy with the silhouette trim: 98.86% input, 98.19% novel views (97.0% was the
-      // issue 4 target; 98.17% / 97.30% without the trim).
+      // Accuracy with the silhouette trim (docs/algorithms.md, "Measured quality").
       EXPECT_GE(scores.input.accuracy(), 0.985);
       EXPECT_GE(scores.novel.accuracy(), 0.978);
     }
