@@ -37,7 +37,6 @@ struct DepthCounts {
   double accuracy() const { return Share(accurate); }
   double leakage() const { return Share(leak); }
   double coverage() const { return Share(covered - missing); }
-  double spurious_share() const { return empty > 0 ? double(spurious) / double(empty) : 0.0; }
 };
 
 // Compares `depth` (CV_32FC1 camera z, 0 = invalid) with `gt` (the same size and type, 0 = no

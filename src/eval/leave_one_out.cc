@@ -304,10 +304,12 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
     images.push_back({"hdribr", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0)});
     // The depth pass against GT depth, pixel for pixel: at the view's full size only.
     std::optional<DepthCounts> depth_counts;
-    if (view_gt_depth.type() == CV_32FC1 && view_gt_depth.size() == size) {
-      depth_counts = CompareDepth(r.depth, view_gt_depth);
-    } else if (view_gt_depth.type() == CV_32FC1) {
-      report.settings["depth_accuracy"] = "needs --size-scale 1";
+    if (view_gt_depth.type() == CV_32FC1) {
+      if (view_gt_depth.size() == size) {
+        depth_counts = CompareDepth(r.depth, view_gt_depth);
+      } else {
+        report.settings["depth_accuracy"] = "needs --size-scale 1";
+      }
     }
     if (gt_renderer) {
       if (view_gt_depth.type() != CV_32FC1) {
