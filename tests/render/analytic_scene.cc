@@ -95,6 +95,51 @@ cv::Mat AnalyticScene::GroundTruthDepth(const Camera& camera, const Rigid3d& cam
   return gt;
 }
 
+std::vector<Rigid3d> DomePoses(int count, double distance, const Eigen::Vector3d& centre,
+                               const Eigen::Vector3d& up) {
+  std::vector<Rigid3d> poses;
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < count; ++i) {
+    const double z = -0.15 - 0.85 * (i + 0.5) / count;
+    const double r = std::sqrt(1.0 - z * z);
+    const Eigen::Vector3d dir(r * std::cos(golden * i), r * std::sin(golden * i), z);
+    poses.push_back(LookAt(centre + distance * dir, centre, up));
+  }
+  return poses;
+}
+
+Scene PhotographScene(const AnalyticScene& analytic, const Camera& camera,
+                      const std::vector<Rigid3d>& poses, int points, const SurfaceShade& shade,
+                      std::vector<cv::Mat>& images) {
+  Scene scene;
+  scene.cameras[1] = camera;
+  scene.points = analytic.Sample(points);
+  images.clear();
+  for (size_t i = 0; i < poses.size(); ++i) {
+    Photo photo;
+    photo.id = static_cast<int>(i) + 1;
+    photo.name = "p" + std::to_string(i) + ".png";
+    photo.image_path = photo.name;
+    photo.camera_id = 1;
+    photo.cam_from_world = poses[i];
+    const cv::Mat depth = analytic.GroundTruthDepth(camera, poses[i]);
+    const Rigid3d world_from_cam = poses[i].Inverse();
+    cv::Mat img(camera.height, camera.width, CV_8UC3, cv::Scalar(0, 0, 0));
+    for (int y = 0; y < camera.height; ++y) {
+      for (int x = 0; x < camera.width; ++x) {
+        const float z = depth.at<float>(y, x);
+        if (z <= 0) continue;
+        const Eigen::Vector3d p = world_from_cam * (camera.CamFromPixel({x + 0.5, y + 0.5}) * z);
+        img.at<cv::Vec3b>(y, x) = shade(p, photo);
+      }
+    }
+    scene.photos.push_back(photo);
+    images.push_back(img);
+  }
+  scene.UpdateDerived();
+  return scene;
+}
+
 Camera TestCamera(int size) {
   const double f = 0.5 * size / std::tan(0.5 * 58.0 * M_PI / 180.0);
   return Camera::Pinhole(1, size, size, f, f, 0.5 * size, 0.5 * size);

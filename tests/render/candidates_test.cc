@@ -28,52 +28,15 @@ cv::Vec3f Shade(const Eigen::Vector3d& p, const Eigen::Vector3d& d) {
 
 // The analytic spheres and plane, 40k points, and one 96 x 96 8-bit photo per pose, ray-cast.
 Scene MakeScene(const std::vector<Rigid3d>& poses, std::vector<cv::Mat>& images) {
-  const test::AnalyticScene analytic = test::AnalyticScene::SpheresAndPlane();
-  Scene scene;
-  const Camera cam = test::TestCamera(96);
-  scene.cameras[1] = cam;
-  scene.points = analytic.Sample(40000);
-  images.clear();
-  for (size_t i = 0; i < poses.size(); ++i) {
-    Photo photo;
-    photo.id = static_cast<int>(i) + 1;
-    photo.name = "p" + std::to_string(i) + ".png";
-    photo.image_path = photo.name;
-    photo.camera_id = 1;
-    photo.cam_from_world = poses[i];
-    const cv::Mat depth = analytic.GroundTruthDepth(cam, poses[i]);
-    const Rigid3d world_from_cam = poses[i].Inverse();
-    cv::Mat img(cam.height, cam.width, CV_8UC3, cv::Scalar(0, 0, 0));
-    for (int y = 0; y < cam.height; ++y) {
-      for (int x = 0; x < cam.width; ++x) {
-        const float z = depth.at<float>(y, x);
-        if (z <= 0) continue;
-        const Eigen::Vector3d p = world_from_cam * (cam.CamFromPixel({x + 0.5, y + 0.5}) * z);
-        img.at<cv::Vec3b>(y, x) = Shade(p, photo.ViewDirection()) * 255.0f;
-      }
-    }
-    scene.photos.push_back(photo);
-    images.push_back(img);
-  }
-  scene.UpdateDerived();
-  return scene;
+  const auto shade = [](const Eigen::Vector3d& p, const Photo& photo) {
+    return cv::Vec3b(Shade(p, photo.ViewDirection()) * 255.0f);
+  };
+  return test::PhotographScene(test::AnalyticScene::SpheresAndPlane(), test::TestCamera(96), poses,
+                               40000, shade, images);
 }
 
-// A photo `distance` from the centre in direction `dir`, looking at the centre.
-Rigid3d Looking(const Eigen::Vector3d& dir, double distance) {
-  return LookAt(kCentre + distance * dir.normalized(), kCentre, kUp);
-}
-
-// Directions on the half sphere facing the plane's front (z < 0), Fibonacci spiral.
 std::vector<Rigid3d> Dome(int count, double distance) {
-  std::vector<Rigid3d> poses;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < count; ++i) {
-    const double z = -0.15 - 0.85 * (i + 0.5) / count;  // cos of the angle from -z, > 0.15
-    const double r = std::sqrt(1.0 - z * z);
-    poses.push_back(Looking({r * std::cos(golden * i), r * std::sin(golden * i), z}, distance));
-  }
-  return poses;
+  return test::DomePoses(count, distance, kCentre, kUp);
 }
 
 const Rigid3d kView = LookAt(kCentre + Eigen::Vector3d(0.4, -0.3, -2.4), kCentre, kUp);

@@ -27,51 +27,18 @@ constexpr int kCandidates = 4;
 // The analytic spheres and plane, 40k points, and one 8-bit photo per pose, ray-cast with a
 // texture of the surface (fine detail, so that a coarse copy shows).
 Scene MakeScene(const std::vector<Rigid3d>& poses, std::vector<cv::Mat>& images) {
-  const test::AnalyticScene analytic = test::AnalyticScene::SpheresAndPlane();
-  Scene scene;
-  const Camera cam = test::TestCamera(kPhotoSize);
-  scene.cameras[1] = cam;
-  scene.points = analytic.Sample(40000);
-  for (size_t i = 0; i < poses.size(); ++i) {
-    Photo photo;
-    photo.id = static_cast<int>(i) + 1;
-    photo.name = "p" + std::to_string(i) + ".png";
-    photo.image_path = photo.name;
-    photo.camera_id = 1;
-    photo.cam_from_world = poses[i];
-    const cv::Mat depth = analytic.GroundTruthDepth(cam, poses[i]);
-    const Rigid3d world_from_cam = poses[i].Inverse();
-    cv::Mat img(cam.height, cam.width, CV_8UC3, cv::Scalar(0, 0, 0));
-    for (int y = 0; y < cam.height; ++y) {
-      for (int x = 0; x < cam.width; ++x) {
-        const float z = depth.at<float>(y, x);
-        if (z <= 0) continue;
-        const Eigen::Vector3d p = world_from_cam * (cam.CamFromPixel({x + 0.5, y + 0.5}) * z);
-        const double a = 0.5 + 0.45 * std::sin(23.0 * p.x() + 11.0 * p.z());
-        const double b = 0.5 + 0.45 * std::sin(19.0 * p.y() - 13.0 * p.z());
-        img.at<cv::Vec3b>(y, x) =
-            cv::Vec3b(static_cast<uchar>(255 * a), static_cast<uchar>(255 * b),
-                      static_cast<uchar>(255 * 0.5 * (a + b)));
-      }
-    }
-    scene.photos.push_back(photo);
-    images.push_back(img);
-  }
-  scene.UpdateDerived();
-  return scene;
+  const auto texture = [](const Eigen::Vector3d& p, const Photo&) {
+    const double a = 0.5 + 0.45 * std::sin(23.0 * p.x() + 11.0 * p.z());
+    const double b = 0.5 + 0.45 * std::sin(19.0 * p.y() - 13.0 * p.z());
+    return cv::Vec3b(static_cast<uchar>(255 * a), static_cast<uchar>(255 * b),
+                     static_cast<uchar>(255 * 0.5 * (a + b)));
+  };
+  return test::PhotographScene(test::AnalyticScene::SpheresAndPlane(), test::TestCamera(kPhotoSize),
+                               poses, 40000, texture, images);
 }
 
-// Directions on the half sphere facing the plane's front (z < 0), Fibonacci spiral.
 std::vector<Rigid3d> Dome(int count, double distance) {
-  std::vector<Rigid3d> poses;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < count; ++i) {
-    const double z = -0.15 - 0.85 * (i + 0.5) / count;
-    const double r = std::sqrt(1.0 - z * z);
-    const Eigen::Vector3d dir(r * std::cos(golden * i), r * std::sin(golden * i), z);
-    poses.push_back(LookAt(kCentre + distance * dir, kCentre, kUp));
-  }
-  return poses;
+  return test::DomePoses(count, distance, kCentre, kUp);
 }
 
 const Rigid3d kView = LookAt(kCentre + Eigen::Vector3d(0.9, -0.5, -2.2), kCentre, kUp);
