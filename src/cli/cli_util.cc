@@ -29,6 +29,7 @@ const FlagNames& ReconstructFlags() {
       {"dense_options.patch_match.iterations", "--dense-iterations"},
       {"dense_options.patch_match.geom_iterations", "--dense-geom-iterations"},
       {"dense_options.patch_match.min_ncc", "--dense-min-ncc"},
+      {"dense_options.single_agreement_ncc", "--fusion-single-ncc"},
       {"threads", "--threads"},
       {"vocab_tree", "--vocab-tree"},
       {"dense", "--dense"},

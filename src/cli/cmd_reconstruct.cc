@@ -66,6 +66,9 @@ CommandRunner SetupReconstruct(CLI::App& sub) {
   sub.add_option("--dense-min-ncc", opt->dense_options.patch_match.min_ncc,
                  "PatchMatch: NCC needed to keep a depth")
       ->capture_default_str();
+  sub.add_option("--fusion-single-ncc", opt->dense_options.single_agreement_ncc,
+                 "NCC from which a depth needs one agreeing map instead of two (> 1: never)")
+      ->capture_default_str();
   sub.add_option("--dense-neighbors", opt->dense_options.num_neighbors,
                  "Source photos per depth map")
       ->capture_default_str();

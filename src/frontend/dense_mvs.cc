@@ -35,12 +35,12 @@ Eigen::Vector3d WorldNormal(const DepthMap& m, const Rigid3d& world_from_cam, in
 
 // Geometric consistency and fusion of one depth map: a depth survives when at least
 // min_consistent of its source photos' depth maps see the same surface within `consistency`
-// relative depth (and, with plane normals, max_normal_error); the fused point averages the
-// agreeing back-projections (and normals). The agreeing pixels of the other maps are marked in
-// `used` (one CV_8U mask per map) and make no point of their own, and the pixels already marked
-// in map i are skipped: one point per surface element rather than one per photo that sees it
-// (as COLMAP's fusion), so that the depth pass does not keep the nearest of several noisy
-// copies of a surface.
+// relative depth (and, with plane normals, max_normal_error), or one does and its NCC reaches
+// single_agreement_ncc; the fused point averages the agreeing back-projections (and normals).
+// The agreeing pixels of the other maps are marked in `used` (one CV_8U mask per map) and make
+// no point of their own, and the pixels already marked in map i are skipped: one point per
+// surface element rather than one per photo that sees it (as COLMAP's fusion), so that the
+// depth pass does not keep the nearest of several noisy copies of a surface.
 DenseResult FuseDepthMap(const std::vector<DepthMap>& maps, const std::map<int, int>& index, int i,
                          const DenseOptions& options, std::vector<cv::Mat>& used) {
   DenseResult out;
@@ -84,7 +84,11 @@ DenseResult FuseDepthMap(const std::vector<DepthMap>& maps, const std::map<int, 
         dir += (world_from_nb.translation - xw).normalized();
         normal += nb_normal;
       }
-      if (agree < options.min_consistent) continue;
+      const bool well_matched =
+          !ref.score.empty() && ref.score.at<float>(y, x) >= options.single_agreement_ncc;
+      if (agree < (well_matched ? std::min(1, options.min_consistent) : options.min_consistent)) {
+        continue;
+      }
       for (const auto& [j, q] : merged) used[j].at<uint8_t>(q) = 1;
       const Eigen::Vector3d p = sum / (agree + 1);
       out.cloud.positions.push_back(p.cast<float>());
@@ -300,6 +304,13 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
     });
   }
 
+  return FuseDepthMaps(maps, options);
+}
+
+DenseResult FuseDepthMaps(const std::vector<DepthMap>& maps, const DenseOptions& options) {
+  const int n = static_cast<int>(maps.size());
+  std::map<int, int> index;
+  for (int i = 0; i < n; ++i) index[maps[i].image_id] = i;
   // One map after the other: a map's pixels that an earlier map's points merged are used.
   std::vector<DenseResult> partial(n);
   std::vector<cv::Mat> used(n);

@@ -50,6 +50,9 @@ struct DenseOptions {
   int min_consistent = 2;         // other depth maps that must agree with a depth
   float max_normal_error = 30.f;  // degrees between agreeing plane normals (PatchMatch)
   int threads = 0;                // 0: hardware concurrency
+  // A depth whose NCC (the map's score) reaches this needs only one agreeing map: surfaces that
+  // few photos frame rarely have two, and a depth matched that well is rarely wrong (> 1: off).
+  float single_agreement_ncc = 0.9f;
   PatchMatchOptions patch_match;
 };
 
@@ -80,6 +83,10 @@ std::map<int, std::vector<int>> SelectNeighbors(const ColmapModel& model, int k)
 // `depth_min`, `depth_max` bound the sweep (camera z).
 DepthMap ComputeDepthMap(const DepthMap& ref_in, const std::vector<const DepthMap*>& sources,
                          double depth_min, double depth_max, const DenseOptions& options);
+
+// Geometric consistency and fusion of depth maps (each with its image_id, camera,
+// cam_from_world, depth, score, colour, neighbours and, from PatchMatch, normals) into points.
+DenseResult FuseDepthMaps(const std::vector<DepthMap>& maps, const DenseOptions& options);
 
 // Whole pipeline on an undistorted (PINHOLE) model and its images folder. `progress(done, total)`
 // is called after each depth map.

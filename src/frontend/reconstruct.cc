@@ -431,6 +431,7 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
       add("dense-neighbors", d.num_neighbors);
       add("fusion-consistency", d.consistency);
       add("fusion-min-consistent", d.min_consistent);
+      add("fusion-single-ncc", d.single_agreement_ncc);
       add("fusion-max-normal-error", d.max_normal_error);
     }
     if (mode == "sweep") {
@@ -546,6 +547,9 @@ void CheckOptions(const ReconstructOptions& opt) {
   if (d.max_size < 16) throw OptionError("dense_options.max_size", "must be >= 16");
   if (d.num_depths < 2) throw OptionError("dense_options.num_depths", "must be >= 2");
   if (d.num_neighbors < 1) throw OptionError("dense_options.num_neighbors", "must be >= 1");
+  if (!(d.single_agreement_ncc >= -1)) {
+    throw OptionError("dense_options.single_agreement_ncc", "must be >= -1 (> 1: never)");
+  }
   if (!(d.max_normal_error > 0 && d.max_normal_error <= 180)) {
     throw OptionError("dense_options.max_normal_error", "must be in (0, 180]");
   }

@@ -123,5 +123,64 @@ TEST(DenseMvs, RecoversASlantedPlaneAcrossExposures) {
   }
 }
 
+// Three depth maps of the plane z = 4 from cameras at x = -0.2, 0, 0.2; the third map holds a
+// wrong depth over |x| < 0.5, |y| < 0.3, so that there only one other map agrees with the
+// first. The first map's NCC is 0.95 left of x = 0, 0.5 elsewhere; the others' 0.5.
+std::vector<DepthMap> PlaneMapsWithOneWrong() {
+  const Camera cam = Camera::Pinhole(1, 40, 30, 40, 40, 20, 15);
+  std::vector<DepthMap> maps(3);
+  for (int i = 0; i < 3; ++i) {
+    DepthMap& m = maps[i];
+    m.image_id = i + 1;
+    m.camera = cam;
+    m.cam_from_world =
+        Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.2 - 0.2 * i, 0, 0));
+    m.depth = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(4.0));
+    m.score = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(0.5));
+    m.color = cv::Mat::zeros(cam.height, cam.width, CV_8UC3);
+    for (int j = 0; j < 3; ++j) {
+      if (j != i) m.neighbors.push_back(j + 1);
+    }
+    const Rigid3d world_from_cam = m.cam_from_world.Inverse();
+    for (int y = 0; y < cam.height; ++y) {
+      for (int x = 0; x < cam.width; ++x) {
+        const Eigen::Vector3d p = world_from_cam * (cam.CamFromPixel({x + 0.5, y + 0.5}) * 4.0);
+        if (i == 0 && p.x() < 0) m.score.at<float>(y, x) = 0.95f;
+        if (i == 2 && std::abs(p.x()) < 0.5 && std::abs(p.y()) < 0.3) m.depth.at<float>(y, x) = 3.f;
+      }
+    }
+  }
+  return maps;
+}
+
+// Points fused inside the wrong map's region, left and right of x = 0 (margins of 0.05).
+std::pair<int, int> PointsInRegion(const DenseResult& r) {
+  int left = 0, right = 0;
+  for (const Eigen::Vector3f& p : r.cloud.positions) {
+    if (std::abs(p.y()) > 0.25 || std::abs(p.x()) > 0.45 || std::abs(p.x()) < 0.05) continue;
+    EXPECT_NEAR(p.z(), 4.f, 1e-3f);
+    ++(p.x() < 0 ? left : right);
+  }
+  return {left, right};
+}
+
+// Where one map disagrees, a depth with one agreeing map is kept only when its NCC reaches
+// single_agreement_ncc; elsewhere two maps agree and every depth is kept.
+TEST(DenseMvs, FusionKeepsWellMatchedDepthsThatOneMapConfirms) {
+  const std::vector<DepthMap> maps = PlaneMapsWithOneWrong();
+  DenseOptions o;
+  o.single_agreement_ncc = 0.9f;
+  const DenseResult r = FuseDepthMaps(maps, o);
+  const auto [left, right] = PointsInRegion(r);
+  EXPECT_GT(left, 20);
+  EXPECT_EQ(right, 0);
+  EXPECT_GT(r.cloud.size(), 500u);  // the plane outside the region: 40 x 30 pixels a map
+
+  o.single_agreement_ncc = 2.f;  // off: two agreeing maps everywhere
+  const DenseResult strict = FuseDepthMaps(maps, o);
+  EXPECT_EQ(PointsInRegion(strict), std::make_pair(0, 0));
+  EXPECT_GE(r.cloud.size(), strict.cloud.size() + left);
+}
+
 }  // namespace
 }  // namespace hdribr
