@@ -40,6 +40,7 @@ struct BenchRenderOptions {
   // GPU memory budgets, MiB (0 = the device's: every photo resident on a large GPU).
   std::string gpu_memory = "0";
   int silhouette_trim = render::DepthPassOptions{}.silhouette_trim;
+  float refine_depth = render::BlendOptions{}.refine_depth;
   std::string json;
 };
 
@@ -106,6 +107,9 @@ Scene MakeScene(int count, int pw, int ph, const PointCloud& cloud, std::vector<
 int Run(const BenchRenderOptions& opt) {
   if (opt.frames < 1) throw UsageError("--frames must be >= 1");
   if (opt.points <= 0) throw UsageError("--points must be positive");
+  render::BlendOptions blend;
+  blend.refine_depth = opt.refine_depth;
+  CheckBlendOptions(blend);
   std::vector<std::pair<int, int>> sizes;
   for (const auto& s : SplitList(opt.sizes)) {
     const cv::Size size = ParseSize(s, "--sizes");
@@ -138,6 +142,7 @@ int Run(const BenchRenderOptions& opt) {
       ro.photo_images = std::move(images);
       ro.gpu_memory_mb = budget;
       ro.depth.silhouette_trim = opt.silhouette_trim;
+      ro.blend = blend;
       // The cache's plan sizes its slots for the largest cap (0 = every photo).
       ro.max_candidates = *std::max_element(caps.begin(), caps.end());
       if (std::find(caps.begin(), caps.end(), 0) != caps.end()) ro.max_candidates = 0;
@@ -219,6 +224,7 @@ int Run(const BenchRenderOptions& opt) {
                  {"height", h},
                  {"photos", count},
                  {"k_best", k >= count ? 0 : k},
+                 {"refine_depth", opt.refine_depth},
                  {"max_candidates", cap},
                  {"candidates_per_frame", used},
                  {"candidates_ms", select_ms},
@@ -288,6 +294,7 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
                  "photos' size caches them)")
       ->default_val(opt->gpu_memory);
   AddSilhouetteTrimOption(sub, opt->silhouette_trim);
+  AddRefineDepthOption(sub, opt->refine_depth);
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
   return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };
 }

@@ -71,6 +71,16 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
                  "Photometric outlier rejection: colour distance (1 = white) from the weighted "
                  "mean at which a ranked photo's weight halves (0 = off)")
       ->capture_default_str();
+  AddRefineDepthOption(app, blend.refine_depth);
+}
+
+CLI::Option* AddRefineDepthOption(CLI::App& app, float& refine_depth) {
+  return app
+      .add_option("--refine-depth", refine_depth,
+                  "Photo-consistent depth: relative half-range of view depths, about the depth "
+                  "pass's, among which each pixel takes the one where its photos agree best "
+                  "(0 = off)")
+      ->capture_default_str();
 }
 
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background) {
@@ -145,7 +155,8 @@ void CheckBlendOptions(const render::BlendOptions& blend) {
                                    {"lambda", "--lambda"},
                                    {"occlusion_tolerance", "--tolerance"},
                                    {"filter", "--filter"},
-                                   {"outlier_scale", "--outlier-scale"}};
+                                   {"outlier_scale", "--outlier-scale"},
+                                   {"refine_depth", "--refine-depth"}};
   RunNamingFlags(kFlags, [&] {
     render::ValidateBlendOptions(blend);
     return 0;

@@ -27,6 +27,8 @@ CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster);
 // --weights, --k-best, --lambda, --tolerance, --background into `blend`; CheckBlendOptions
 // validates them.
 void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
+// --refine-depth into `refine_depth` (render::BlendOptions::refine_depth, 0 = off).
+CLI::Option* AddRefineDepthOption(CLI::App& app, float& refine_depth);
 // --background NAME into `background` (names from render::BackgroundName).
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background);
 // --max-photo-size PX into `max_photo_size` (0 = full size).

@@ -72,6 +72,11 @@ std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options)
     problem << "must be finite and >= 0 (0 = off), got " << options.outlier_scale;
     problems.push_back({"outlier_scale", problem.str()});
   }
+  if (!(options.refine_depth >= 0.0f && options.refine_depth <= kMaxRefineDepth)) {
+    std::ostringstream problem;
+    problem << "must be in [0, " << kMaxRefineDepth << "] (0 = off), got " << options.refine_depth;
+    problems.push_back({"refine_depth", problem.str()});
+  }
   return problems;
 }
 

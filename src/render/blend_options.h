@@ -35,6 +35,8 @@ inline constexpr int kMaxKBest = 32;
 
 // Largest BlendOptions::filter: a depth uncertainty of +-50 %.
 inline constexpr float kMaxFilter = 0.5f;
+// Largest BlendOptions::refine_depth: +-5 % of the view depth.
+inline constexpr float kMaxRefineDepth = 0.05f;
 
 // What the blend shows where the depth pass found no point (sky, distant ground, gaps).
 // Either surface is seen by a photo where the photo's own depth map has no point either.
@@ -99,18 +101,23 @@ struct BlendOptions {
   // summed, nor for float photos): each weight divided by 1 + (|c_k - m| / outlier_scale)^2,
   // c_k the photo's value (RGB, 1 = white), m the weighted mean; 0 = off.
   float outlier_scale = 0.08f;
+  // Photo-consistent depth: each pixel takes, of its view depth z and z (1 +- refine_depth), the
+  // one where its ranked photos agree best over a 5-ray patch; 0 = off. On by default (closer
+  // to held-out photos on reconstructed clouds, docs/benchmarks.md).
+  float refine_depth = 0.003f;
 };
 
 // One BlendOptions field that no blend can use.
 struct BlendOptionProblem {
   std::string field;    // the BlendOptions member: "k_best", "lambda", "occlusion_tolerance",
-                        // "filter", "outlier_scale"
+                        // "filter", "outlier_scale", "refine_depth"
   std::string problem;  // e.g. "must be in [0, 32] (0 = the default), got 40"
 };
 
 // The fields of `options` outside their valid ranges: k_best in [0, kMaxKBest] whatever the
 // weights, lambda in [0, 1), occlusion_tolerance in (0, 1), filter in [0, kMaxFilter],
-// outlier_scale finite and >= 0. Empty when the options are usable.
+// outlier_scale finite and >= 0, refine_depth in [0, kMaxRefineDepth]. Empty when the options are
+// usable.
 std::vector<BlendOptionProblem> BlendOptionProblems(const BlendOptions& options);
 
 // Throws OptionError(field, problem) for the first of BlendOptionProblems.

@@ -33,6 +33,12 @@ bool RejectsOutliers(const BlendOptions& options, bool sum_all, bool float_photo
          options.outlier_scale > 0.0f;
 }
 
+// True when the blend moves each point to its photos' most consistent depth (a list of ranked
+// photos to compare; never for the nearest photo).
+bool RefinesDepth(const BlendOptions& options, bool sum_all) {
+  return options.mode != BlendMode::kNearestPhoto && !sum_all && options.refine_depth > 0.0f;
+}
+
 // The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
 // the per-pixel list, `sum_all` for eq. 5 over every photo, `tiers` the slot sizes of the
 // PhotoCache holding the photos (0: none), `cached_depth` when it holds their depth maps,
@@ -51,7 +57,8 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, in
                        {"TIERS", std::to_string(std::max(tiers, 1))},
                        {"CACHED_DEPTH", cached_depth ? "1" : "0"},
                        {"CUBIC", options.sampling == PhotoSampling::kCubic ? "1" : "0"},
-                       {"OUTLIER", RejectsOutliers(options, sum_all, float_photos) ? "1" : "0"}};
+                       {"OUTLIER", RejectsOutliers(options, sum_all, float_photos) ? "1" : "0"},
+                       {"REFINE", RefinesDepth(options, sum_all) ? "1" : "0"}};
   if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
 }
@@ -219,6 +226,7 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   if (Filtered(options)) glProgramUniform1f(p, 17, options.filter);
   if (RejectsOutliers(options, sum_all, float_photos_))
     glProgramUniform1f(p, 18, options.outlier_scale);
+  if (RefinesDepth(options, sum_all)) glProgramUniform1f(p, 20, options.refine_depth);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   program.Use();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());

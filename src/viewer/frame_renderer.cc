@@ -126,6 +126,7 @@ void FrameRenderer::Load(ViewState& state) {
   r.blend_options().background = s.background;
   r.blend_options().sampling = s.sampling;
   r.blend_options().outlier_scale = s.outlier_scale;
+  r.blend_options().refine_depth = s.refine_depth;
   r.SetMaxCandidates(s.max_candidates);
   r.blend_options().mode = state.display == DisplayMode::kNearestPhoto
                                ? render::BlendMode::kNearestPhoto
@@ -139,6 +140,7 @@ void FrameRenderer::Load(ViewState& state) {
     }
   }
   loaded_settings_ = s;
+  schedule_.SetSearchStage(s.refine_depth > 0.0f);
   loaded_ = true;
   render_dirty_ = true;
   tonemap_pass_.ResetHistory();
@@ -182,13 +184,14 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
     }
     level_ = level;
     const int w = surface.target.width(), h = surface.target.height();
-    // A reduced frame also blends fewer candidate photos; full quality uses the setting.
+    // A reduced frame also blends fewer candidate photos; the depth search runs in the frames
+    // the schedule gives it.
     const int cap = loaded_settings_.max_candidates;
+    const bool full = level == ProgressiveSchedule::kFull;
     render::Renderer& r = BaseRenderer();
-    r.SetMaxCandidates(level == ProgressiveSchedule::kFull ||
-                               (cap > 0 && cap < kMotionMaxCandidates)
-                           ? cap
-                           : kMotionMaxCandidates);
+    r.SetMaxCandidates(full || (cap > 0 && cap < kMotionMaxCandidates) ? cap
+                                                                       : kMotionMaxCandidates);
+    r.blend_options().refine_depth = schedule_.search() ? loaded_settings_.refine_depth : 0.0f;
     const Camera cam = camera_.Scaled(w, h);
     if (hdr_) {
       hdr_->Render(cam, pose, surface.target);

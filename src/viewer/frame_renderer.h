@@ -65,14 +65,14 @@ class FrameRenderer {
   // Re-renders the radiance at `pose` when the pose, the size or the blend changed, then the
   // display when it or the tone mapping changed. With a frame budget (state.frame_budget_ms),
   // a change renders a reduced size that fits it and the full size follows once the view is
-  // still (ProgressiveSchedule). Sizes in pixels; 0 = nothing to draw.
+  // still, then the depth search (ProgressiveSchedule). Sizes in pixels; 0 = nothing to draw.
   void Render(const ViewState& state, const Rigid3d& pose, int width, int height);
   // True when the picture on screen is at full quality.
   bool full_quality() const { return level_ == ProgressiveSchedule::kFull; }
   // True when it is also final: rendered with every photo it needed resident at the level it
-  // samples.
+  // samples, and with the photo-consistent depth search when that is on.
   bool settled() const {
-    return full_quality() && stats_.residency.pending == 0 && !redraw_when_loaded_;
+    return schedule_.final() && stats_.residency.pending == 0 && !redraw_when_loaded_;
   }
   // The display (with the frustums over it when asked, the candidate photos' in their own
   // colour) into the window's framebuffer.

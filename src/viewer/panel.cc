@@ -113,6 +113,8 @@ void DrawSettings(ViewState& state, const Scene& scene) {
   EnumCombo("background", s.background, "none\0infinity\0sphere\0");
   EnumCombo("sampling", s.sampling, "linear\0cubic\0");
   ImGui::SliderFloat("outlier scale (0 = off)", &s.outlier_scale, 0.0f, 0.5f, "%.3f");
+  ImGui::SliderFloat("refine depth (0 = off)", &s.refine_depth, 0.0f, render::kMaxRefineDepth,
+                     "%.4f");
   int mode = static_cast<int>(state.display);
   if (ImGui::Combo("display", &mode, DisplayModeCombo())) {
     state.SetDisplay(static_cast<DisplayMode>(mode));

@@ -35,6 +35,8 @@ void ProgressiveSchedule::SetBudget(double budget_ms) {
   motion_level_ = -1;
 }
 
+void ProgressiveSchedule::SetSearchStage(bool on) { search_stage_ = on; }
+
 void ProgressiveSchedule::MarkStale() {
   if (shown_ == kFull) stale_ = true;
 }
@@ -46,7 +48,7 @@ void ProgressiveSchedule::ResetCosts() {
 }
 
 void ProgressiveSchedule::Record(int level, double ms) {
-  if (level < 0 || level > kFull || !(ms > 0)) return;
+  if (level < 0 || level > kFull || !(ms > 0) || search_) return;
   double& c = cost_ms_[static_cast<size_t>(level)];
   const bool fresh = c > 0 && records_ - measured_at_[static_cast<size_t>(level)] <= kCostMaxAge;
   c = fresh ? (1 - kCostUpdate) * c + kCostUpdate * ms : ms;
@@ -83,22 +85,30 @@ int ProgressiveSchedule::MotionLevel() const {
 int ProgressiveSchedule::Next(bool changed, double now_s) {
   if (stale_) {
     stale_ = false;
-    if (!changed) return kFull;  // shown_ stays kFull
+    if (!changed) {
+      search_ = search_stage_;
+      return kFull;  // shown_ stays kFull
+    }
   }
   if (budget_ms_ <= 0) {
     if (!changed && shown_ == kFull) return -1;
     shown_ = kFull;
+    search_ = search_stage_;
     return kFull;
   }
   if (changed) {
-    stale_ = false;
     last_change_s_ = now_s;
     motion_level_ = Predicted(kFull) > 0 ? MotionLevel() : kFirstLevel;
     shown_ = motion_level_;
+    search_ = false;
     return shown_;
   }
-  if (shown_ == kFull || now_s - last_change_s_ < kRefineAfterStillS) return -1;
+  if (final() || now_s - last_change_s_ < kRefineAfterStillS) return -1;
   motion_level_ = -1;
+  // Full size first, the search stage at once after it; a full-size picture already on screen
+  // (a cheap view while moving) gets the search stage now.
+  search_ = search_stage_ && shown_ == kFull;
+  stale_ = search_stage_ && !search_;
   shown_ = kFull;
   return kFull;
 }

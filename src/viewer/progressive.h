@@ -1,7 +1,8 @@
 // Progressive rendering as pure logic (no GL): while the picture's inputs change (camera, blend
 // settings), frames render a share of the window's pixels chosen so that a frame fits a time
-// budget, with fewer candidate photos; once the view has been still for a moment, one frame
-// renders it at full quality.
+// budget, with fewer candidate photos and no photo-consistent depth search; once the view has
+// been still for a moment, it renders at full size, then (when the search is on) once more with
+// the search.
 #pragma once
 
 #include <array>
@@ -33,18 +34,27 @@ class ProgressiveSchedule {
   // Sets the budget (ms, <= 0 = off); the next frame re-plans.
   void SetBudget(double budget_ms);
   double budget_ms() const { return budget_ms_; }
+  // Whether the full-quality picture includes a costlier last stage (the photo-consistent depth
+  // search). With a budget it comes in two frames: full size without the stage, then with it.
+  void SetSearchStage(bool on);
 
   // The level to render this frame, or -1 when the picture on screen is already what it
   // should be. `changed`: the picture's inputs differ from the last rendered frame's; now_s: a
   // monotonic clock in seconds.
   int Next(bool changed, double now_s);
-  // The wall time (ms) a frame of `level` took; refines that level's cost estimate.
+  // The wall time (ms) a frame of `level` took; refines that level's cost estimate (the search
+  // stage's frames are not counted: the reduced frames, planned from the costs, skip it).
   void Record(int level, double ms);
   // The cost expected of a frame at `level` (ms): measured, or extrapolated from the nearest
   // measured level in proportion to the pixels; 0 when no level was measured.
   double Predicted(int level) const;
   // The level of the picture on screen (-1 before the first).
   int shown() const { return shown_; }
+  // True when the frame of the last Next runs the search stage.
+  bool search() const { return search_; }
+  // True when the picture on screen is the last this view gets: full size, with the search
+  // stage when it has one.
+  bool final() const { return shown_ == kFull && (search_ || !search_stage_); }
   // The full-quality picture on screen is out of date (what it was rendered from has improved
   // since): the next call renders it again at full quality, without waiting for stillness.
   void MarkStale();
@@ -59,8 +69,11 @@ class ProgressiveSchedule {
   std::array<long, kScales.size()> measured_at_{};  // records_ at each level's last measurement
   long records_ = 0;
   int shown_ = -1;
-  bool stale_ = false;     // MarkStale: the full-quality picture is to be rendered again
-  int motion_level_ = -1;  // the last reduced level chosen (hysteresis)
+  // The full-quality picture is to be rendered again (MarkStale, or the search stage follows).
+  bool stale_ = false;
+  bool search_stage_ = false;  // SetSearchStage
+  bool search_ = false;        // the last Next's frame runs the search stage
+  int motion_level_ = -1;      // the last reduced level chosen (hysteresis)
   double last_change_s_ = -1e30;
 };
 

@@ -125,6 +125,7 @@ ViewState InitialViewState(const ViewerOptions& options, const Scene& scene) {
   s.background = options.renderer.blend.background;
   s.sampling = options.renderer.blend.sampling;
   s.outlier_scale = options.renderer.blend.outlier_scale;
+  s.refine_depth = options.renderer.blend.refine_depth;
   s.max_candidates = options.renderer.max_candidates;
   state.display = options.display;
   // LDR photos are already display-encoded: no curve, gamma 1 unless asked.

@@ -54,6 +54,7 @@ struct Settings {
   render::Background background = render::Background::kSphere;
   render::PhotoSampling sampling = render::BlendOptions{}.sampling;
   float outlier_scale = render::BlendOptions{}.outlier_scale;  // 0 = off
+  float refine_depth = render::BlendOptions{}.refine_depth;    // 0 = off
   int max_candidates = render::kDefaultMaxCandidates;          // 0 = every active photo
   bool operator==(const Settings&) const = default;
 };

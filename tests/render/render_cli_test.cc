@@ -158,10 +158,10 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
   r = test::RunCommand(base + " --camera s0_v00.jpg --hdr-mode direct --gamma nan --out " +
                        (out / "x.png").string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
-  for (const std::string bad :
-       {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2",
-        "--k-best 40 --weights paper", "--k-best 33", "--candidates -1", "--gpu-memory -1",
-        "--gpu-memory 0.001", "--filter 0.7", "--filter -1"}) {
+  for (const std::string bad : {"--lambda nan", "--lambda -1", "--tolerance 0", "--k-best -2",
+                                "--k-best 40 --weights paper", "--k-best 33", "--candidates -1",
+                                "--gpu-memory -1", "--gpu-memory 0.001", "--filter 0.7",
+                                "--filter -1", "--refine-depth 0.1", "--refine-depth -0.01"}) {
     r = test::RunCommand(base + " --camera s0_v00.jpg " + bad + " --out " +
                          (out / "x.png").string());
     EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;

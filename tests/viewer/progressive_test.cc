@@ -1,5 +1,5 @@
 // ProgressiveSchedule: reduced frames that fit the budget while the view changes, full quality
-// once it has been still, and the costs it learns from.
+// once it has been still (the depth search in a frame of its own), and the costs it learns from.
 #include "viewer/progressive.h"
 
 #include <gtest/gtest.h>
@@ -87,6 +87,62 @@ TEST(ProgressiveSchedule, CheapFramesStayFullQualityWhileMoving) {
   s.Next(true, 0.0);
   s.Record(kFull, 30);
   for (int i = 1; i < 5; ++i) EXPECT_EQ(s.Next(true, 0.1 * i), kFull);
+}
+
+TEST(ProgressiveSchedule, TheSearchStageFollowsTheFullSizeFrame) {
+  ProgressiveSchedule s(100);
+  s.SetSearchStage(true);
+  s.Next(true, 0.0);
+  EXPECT_FALSE(s.search());  // reduced frames skip it
+  s.Record(kFirstLevel, 50);
+  // Still: full size without the search, then at once with it; then nothing.
+  EXPECT_EQ(s.Next(false, 1.0), kFull);
+  EXPECT_FALSE(s.search());
+  EXPECT_FALSE(s.final());
+  s.Record(kFull, 400);
+  EXPECT_EQ(s.Next(false, 1.01), kFull);
+  EXPECT_TRUE(s.search());
+  EXPECT_TRUE(s.final());
+  s.Record(kFull, 1000);  // the search stage's cost does not plan the reduced frames
+  EXPECT_EQ(s.Predicted(kFull), 400);
+  EXPECT_EQ(s.Next(false, 1.02), -1);
+  // A stale final picture is redrawn with the search.
+  s.MarkStale();
+  EXPECT_EQ(s.Next(false, 1.03), kFull);
+  EXPECT_TRUE(s.search());
+  // A change between the two frames drops the second.
+  EXPECT_LT(s.Next(true, 2.0), kFull);
+  EXPECT_EQ(s.Next(false, 2.0 + 2 * kRefineAfterStillS), kFull);
+  EXPECT_FALSE(s.search());
+  EXPECT_LT(s.Next(true, 3.0), kFull);
+  EXPECT_EQ(s.Next(false, 3.01), -1);
+  EXPECT_FALSE(s.final());
+}
+
+TEST(ProgressiveSchedule, ACheapFullSizeViewGetsTheSearchOnceStill) {
+  ProgressiveSchedule s(100);
+  s.SetSearchStage(true);
+  s.Next(true, 0.0);
+  s.Record(kFull, 30);
+  EXPECT_EQ(s.Next(true, 0.1), kFull);  // moving, at full size without the search
+  EXPECT_FALSE(s.search());
+  EXPECT_FALSE(s.final());
+  EXPECT_EQ(s.Next(false, 0.1 + 2 * kRefineAfterStillS), kFull);
+  EXPECT_TRUE(s.search());
+  EXPECT_EQ(s.Next(false, 1.0), -1);
+}
+
+TEST(ProgressiveSchedule, WithoutABudgetEveryFrameSearches) {
+  ProgressiveSchedule s(0);
+  s.SetSearchStage(true);
+  EXPECT_EQ(s.Next(true, 0.0), kFull);
+  EXPECT_TRUE(s.search());
+  EXPECT_TRUE(s.final());
+  EXPECT_EQ(s.Next(false, 0.1), -1);
+  s.SetSearchStage(false);
+  EXPECT_EQ(s.Next(true, 0.2), kFull);
+  EXPECT_FALSE(s.search());
+  EXPECT_TRUE(s.final());
 }
 
 TEST(ProgressiveSchedule, ForgetsCostsAndLevelSizes) {
