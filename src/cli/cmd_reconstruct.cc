@@ -49,7 +49,9 @@ CommandRunner SetupReconstruct(CLI::App& sub) {
                  "auto (COLMAP with CUDA, else cpu), cpu (PatchMatch stereo), sweep (plane sweep), "
                  "colmap, none")
       ->capture_default_str();
-  sub.add_option("--dense-size", opt->dense_options.max_size, "Largest side of the CPU depth maps")
+  sub.add_option("--dense-size", opt->dense_options.max_size,
+                 "Largest side of the CPU depth maps (0: from the photo count, 48 photos of "
+                 "400x300 in all, at least 400)")
       ->capture_default_str();
   sub.add_option("--dense-depths", opt->dense_options.num_depths,
                  "Planes swept per depth map (sweep)")

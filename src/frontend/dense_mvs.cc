@@ -225,9 +225,24 @@ DepthMap ComputeDepthMap(const DepthMap& ref_in, const std::vector<const DepthMa
   return ref;
 }
 
+int DepthMapSize(const ColmapModel& model, const DenseOptions& options) {
+  if (options.max_size > 0) return options.max_size;
+  if (model.images.empty()) return options.min_auto_size;
+  // A photo of largest side L at largest side s has s^2 * (w h / L^2) pixels.
+  double area_per_side2 = 0;
+  for (const auto& [id, im] : model.images) {
+    const Camera& cam = model.cameras.at(im.camera_id);
+    const double l = std::max(cam.width, cam.height);
+    area_per_side2 += double(cam.width) * cam.height / (l * l);
+  }
+  const double side = std::sqrt(options.pixel_budget / area_per_side2);
+  return std::max(options.min_auto_size, static_cast<int>(std::lround(side)));
+}
+
 DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
                        const DenseOptions& options, const std::function<void(int, int)>& progress) {
   const int threads = ThreadCount(options.threads);
+  const int max_size = DepthMapSize(model, options);
   const auto neighbors = SelectNeighbors(model, options.num_neighbors);
 
   // Load and scale every photo.
@@ -241,7 +256,7 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
     const ColmapImage& im = model.images.at(ids[i]);
     const Camera& cam = model.cameras.at(im.camera_id);
     const cv::Mat bgr = ReadImage(images_dir / im.name);
-    const double s = std::min(1.0, double(options.max_size) / std::max(bgr.cols, bgr.rows));
+    const double s = std::min(1.0, double(max_size) / std::max(bgr.cols, bgr.rows));
     const int w = std::max(1, static_cast<int>(std::lround(bgr.cols * s)));
     const int h = std::max(1, static_cast<int>(std::lround(bgr.rows * s)));
     DepthMap& m = maps[i];

@@ -41,7 +41,12 @@ struct PatchMatchOptions {
 
 struct DenseOptions {
   DenseMethod method = DenseMethod::kPatchMatch;  // reconstruct sets it from --dense
-  int max_size = 400;             // depth maps are computed at this largest side (pixels)
+  // Largest side of the depth maps (pixels); 0: from the photo count (DepthMapSize).
+  int max_size = 0;
+  // With max_size 0 the photos share this many depth-map pixels: 48 photos of 400 x 300, the
+  // capture the dense stage's time is set on, so fewer photos get larger maps in that time.
+  double pixel_budget = 48 * 400 * 300;
+  int min_auto_size = 400;        // ... and never less than this largest side
   int num_neighbors = 4;          // source photos per reference photo
   int num_depths = 96;            // sweep: planes, uniform in inverse depth
   int window_radius = 3;          // sweep: NCC window (2r+1)^2
@@ -78,6 +83,11 @@ struct DenseResult {
 // Source photos of each photo: the ones sharing the most sparse points at a triangulation angle
 // of at least 2 degrees. Returns image id -> neighbour ids (best first).
 std::map<int, std::vector<int>> SelectNeighbors(const ColmapModel& model, int k);
+
+// Largest side of the depth maps: options.max_size, or when 0 the side at which the model's photos
+// (each at its own aspect) share options.pixel_budget, at least options.min_auto_size. Photos
+// smaller than the result keep their size.
+int DepthMapSize(const ColmapModel& model, const DenseOptions& options);
 
 // Depth map of one reference photo from its source photos (images already loaded and scaled).
 // `depth_min`, `depth_max` bound the sweep (camera z).

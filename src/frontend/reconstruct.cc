@@ -322,9 +322,9 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
     o.method = mode == "cpu" ? DenseMethod::kPatchMatch : DenseMethod::kSweep;
     dense = DensifyCpu(model, ctx.opt.workspace / "images", o,
                        [&](int done, int total) { progress.Update(done, total, "depth maps"); });
-    spdlog::info("CPU multi-view stereo ({}): {} depth maps, {} fused points",
+    spdlog::info("CPU multi-view stereo ({}): {} depth maps of largest side {} px, {} fused points",
                  mode == "cpu" ? "PatchMatch" : "plane sweep", dense.num_depth_maps,
-                 dense.cloud.size());
+                 DepthMapSize(model, o), dense.cloud.size());
   } else if (mode == "colmap") {
     if (!ctx.caps.has_cuda) throw OptionError("dense", "colmap needs a COLMAP built with CUDA");
     const long n = static_cast<long>(model.images.size());
@@ -427,7 +427,7 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
     add("radius-neighbors", a.radius_neighbors);
     const DenseOptions& d = o.dense_options;
     if (mode == "cpu" || mode == "sweep") {
-      add("dense-size", d.max_size);
+      add("dense-size", d.max_size > 0 ? std::to_string(d.max_size) : "auto");
       add("dense-neighbors", d.num_neighbors);
       add("fusion-consistency", d.consistency);
       add("fusion-min-consistent", d.min_consistent);
@@ -544,7 +544,9 @@ void CheckOptions(const ReconstructOptions& opt) {
     throw OptionError("undistort_max_size", "must be -1 (as shot) or >= 16");
   }
   const DenseOptions& d = opt.dense_options;
-  if (d.max_size < 16) throw OptionError("dense_options.max_size", "must be >= 16");
+  if (d.max_size != 0 && d.max_size < 16) {
+    throw OptionError("dense_options.max_size", "must be 0 (from the photo count) or >= 16");
+  }
   if (d.num_depths < 2) throw OptionError("dense_options.num_depths", "must be >= 2");
   if (d.num_neighbors < 1) throw OptionError("dense_options.num_neighbors", "must be >= 1");
   if (!(d.single_agreement_ncc >= -1)) {

@@ -164,6 +164,36 @@ std::pair<int, int> PointsInRegion(const DenseResult& r) {
   return {left, right};
 }
 
+// n photos of w x h (one camera), for the depth-map size rule.
+ColmapModel PhotosOfSize(int n, int w, int h) {
+  ColmapModel model;
+  model.cameras[1] = Camera::Pinhole(1, w, h, w, w, w / 2.0, h / 2.0);
+  for (int i = 0; i < n; ++i) {
+    ColmapImage im;
+    im.id = i + 1;
+    im.camera_id = 1;
+    model.images[im.id] = im;
+  }
+  return model;
+}
+
+// Auto size: the photos share 48 x 400 x 300 pixels whatever their aspect, never below 400;
+// a size given explicitly is kept.
+TEST(DenseMvs, DepthMapSizeSharesThePixelBudget) {
+  const DenseOptions o;
+  ASSERT_EQ(o.max_size, 0);
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(48, 800, 600), o), 400);
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(12, 800, 600), o), 800);
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(12, 600, 800), o), 800);  // portrait: same pixels
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(23, 1600, 1200), o), 578);
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(11, 1536, 1024), o), 886);  // 886 x 591 each
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(300, 800, 600), o), 400);
+  EXPECT_EQ(DepthMapSize(ColmapModel{}, o), 400);
+  DenseOptions fixed;
+  fixed.max_size = 300;
+  EXPECT_EQ(DepthMapSize(PhotosOfSize(4, 800, 600), fixed), 300);
+}
+
 // Where one map disagrees, a depth with one agreeing map is kept only when its NCC reaches
 // single_agreement_ncc; elsewhere two maps agree and every depth is kept.
 TEST(DenseMvs, FusionKeepsWellMatchedDepthsThatOneMapConfirms) {
