@@ -319,7 +319,9 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
     });
   }
 
-  return FuseDepthMaps(maps, options);
+  DenseResult result = FuseDepthMaps(maps, options);
+  result.depth_map_size = max_size;
+  return result;
 }
 
 DenseResult FuseDepthMaps(const std::vector<DepthMap>& maps, const DenseOptions& options) {

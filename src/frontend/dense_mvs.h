@@ -78,6 +78,7 @@ struct DenseResult {
   PointCloud cloud;                        // positions, colours, normals (PatchMatch)
   std::vector<Eigen::Vector3f> view_dirs;  // per point: unit sum of directions to its cameras
   int num_depth_maps = 0;
+  int depth_map_size = 0;  // largest side of the depth maps (pixels), from DepthMapSize
 };
 
 // Source photos of each photo: the ones sharing the most sparse points at a triangulation angle

@@ -324,7 +324,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
                        [&](int done, int total) { progress.Update(done, total, "depth maps"); });
     spdlog::info("CPU multi-view stereo ({}): {} depth maps of largest side {} px, {} fused points",
                  mode == "cpu" ? "PatchMatch" : "plane sweep", dense.num_depth_maps,
-                 DepthMapSize(model, o), dense.cloud.size());
+                 dense.depth_map_size, dense.cloud.size());
   } else if (mode == "colmap") {
     if (!ctx.caps.has_cuda) throw OptionError("dense", "colmap needs a COLMAP built with CUDA");
     const long n = static_cast<long>(model.images.size());

@@ -99,6 +99,7 @@ TEST(DenseMvs, RecoversASlantedPlaneAcrossExposures) {
     o.threads = 2;
     const DenseResult r = DensifyCpu(f.model, f.images, o);
     EXPECT_EQ(r.num_depth_maps, 4);
+    EXPECT_EQ(r.depth_map_size, 160);
     ASSERT_EQ(r.view_dirs.size(), r.cloud.size());
     ASSERT_EQ(r.cloud.colors.size(), r.cloud.size());
     ASSERT_EQ(r.cloud.normals.size(), method == DenseMethod::kSweep ? 0u : r.cloud.size());
