@@ -187,10 +187,28 @@ size_t DepthPass::PointsPerDispatch() const {
 
 void DepthPass::SetPoints(const PointCloud& cloud, float radius_override) {
   points_ = PointBuffer(cloud, radius_override);
+  coarse_.clear();
+}
+
+const PointBuffer& DepthPass::PointsFor(double detail) {
+  // Level l (0 = every point) draws every 4^l-th point: the coarsest with 4^l <= 1 / detail^2,
+  // among the levels of at least kMinLevelPoints (below that the per-point steps cost little).
+  constexpr size_t kLevelStride = 4, kMaxLevels = 3, kMinLevelPoints = 16384;
+  const double max_stride = detail > 0 && detail < 1 ? 1.0 / (detail * detail) : 1.0;
+  size_t level = 0;
+  for (size_t stride = kLevelStride;
+       level < kMaxLevels && static_cast<double>(stride) <= max_stride &&
+       points_.size() / stride >= kMinLevelPoints;
+       stride *= kLevelStride) {
+    if (level == coarse_.size()) coarse_.push_back(points_.Decimated(static_cast<int>(stride)));
+    ++level;
+  }
+  return level == 0 ? points_ : coarse_[level - 1];
 }
 
 // What the steps of one Process() call share.
 struct DepthPass::Frame {
+  const PointBuffer* points;  // the level of the cloud drawn
   DepthMode mode;
   bool draw;  // some point may be in front of the camera
   int width, height;
@@ -250,12 +268,12 @@ void DepthPass::SplatStep(const Frame& f, Buffers& buf) {
   if (options_.raster == PointRaster::kCompute) {
     f.SetCamera(splat_compute_);
     glBindImageTexture(0, buf.splat_depth.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    DispatchPoints(splat_compute_, points_, f.near, PointsPerDispatch());
+    DispatchPoints(splat_compute_, *f.points, f.near, PointsPerDispatch());
     if (plain) {
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
       f.SetCamera(splat_normal_compute_);
       glBindImageTexture(1, buf.splat_normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-      DispatchPoints(splat_normal_compute_, points_, f.near, PointsPerDispatch());
+      DispatchPoints(splat_normal_compute_, *f.points, f.near, PointsPerDispatch());
     }
     return;
   }
@@ -267,15 +285,15 @@ void DepthPass::SplatStep(const Frame& f, Buffers& buf) {
   f.SetCamera(splat_);
   f.SetDepthRange(splat_);
   splat_.Use();
-  points_.Bind();
-  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(points_.size()));
+  f.points->Bind();
+  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(f.points->size()));
 }
 
 void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
   if (f.mode == DepthMode::kPlain) return;
   const bool classify = f.mode == DepthMode::kLechelek;
   const int layers = classify ? 2 : 1;  // marroquim reads the foreground pyramid only
-  const auto count = static_cast<GLsizei>(points_.size());
+  const auto count = static_cast<GLsizei>(f.points->size());
   // Camera and (lechelek) classification uniforms, then the program in use.
   auto use = [&](const gl::Program& p) {
     f.SetCamera(p);
@@ -301,7 +319,7 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
       const gl::Program& p = project_compute_[classify ? 1 : 0][stage];
       use(p);
       if (stage == 1) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-      DispatchPoints(p, points_, f.near, PointsPerDispatch());
+      DispatchPoints(p, *f.points, f.near, PointsPerDispatch());
     }
     return;
   }
@@ -313,7 +331,7 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
     if (classify) ClearTarget(buf.back_fb);
   }
   if (!f.draw) return;
-  points_.Bind();
+  f.points->Bind();
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
   glBindTextureUnit(0, buf.splat_depth.id());
   auto draw = [&](const gl::Framebuffer& fb, const gl::Program& p) {
@@ -332,7 +350,8 @@ void DepthPass::ProjectStep(const Frame& f, Buffers& buf) {
   }
 }
 
-void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target) {
+void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target,
+                        double detail) {
   const int width = target.width();
   const int height = target.height();
   if (!camera.IsPinhole() && !camera.HasZeroDistortion()) {
@@ -345,9 +364,11 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
   times_ = {};
 
   // Clip range from the cloud's bounds in camera space. Points behind the camera are clipped.
+  const PointBuffer& points = PointsFor(detail);
+  last_point_count_ = points.size();
   double zmax = 0.0;
-  if (points_.size() > 0) {
-    const Bounds& bb = points_.bounds();
+  if (points.size() > 0) {
+    const Bounds& bb = points.bounds();
     for (int i = 0; i < 8; ++i) {
       const Eigen::Vector3d corner((i & 1) ? bb.max.x() : bb.min.x(),
                                    (i & 2) ? bb.max.y() : bb.min.y(),
@@ -356,8 +377,9 @@ void DepthPass::Process(const Camera& camera, const Rigid3d& cam_from_world, Dep
     }
   }
   Frame f;
+  f.points = &points;
   f.mode = options_.mode;
-  f.draw = points_.size() > 0 && zmax > 0.0;
+  f.draw = points.size() > 0 && zmax > 0.0;
   f.width = width;
   f.height = height;
   f.far = static_cast<float>(f.draw ? zmax * 1.01 : 1.0);

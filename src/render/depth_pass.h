@@ -110,8 +110,14 @@ class DepthPass {
   const PointBuffer& points() const { return points_; }
 
   // Renders the cloud seen by `camera` (pinhole; intrinsics are rescaled to the target size
-  // when it differs from camera.width x camera.height) into `target`.
-  void Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target);
+  // when it differs from camera.width x camera.height) into `target`. `detail` in (0, 1]: the
+  // target's size per axis relative to the picture it previews; below 1 a coarser level of the
+  // cloud is drawn (every k-th point, k <= 1 / detail^2, splats sqrt(k) times wider), so that a
+  // pixel meets about as many points as at full size.
+  void Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target,
+               double detail = 1.0);
+  // Points drawn by the newest Process().
+  size_t last_point_count() const { return last_point_count_; }
 
   DepthPassOptions& options() { return options_; }
   const DepthPassOptions& options() const { return options_; }
@@ -126,6 +132,7 @@ class DepthPass {
   void SplatStep(const Frame& f, Buffers& buf);
   void ProjectStep(const Frame& f, Buffers& buf);
   size_t PointsPerDispatch() const;  // compute raster: points per dispatch (options, limits)
+  const PointBuffer& PointsFor(double detail);  // the level Process draws, built when first asked
 
   DepthPassOptions options_;
   size_t first_program_;  // index in the library's built() of the pass's first program
@@ -141,6 +148,8 @@ class DepthPass {
   gl::Program resolve_holes_;
   PullPushPass pull_push_;
   PointBuffer points_;
+  std::vector<PointBuffer> coarse_;  // every 4th, 16th, ... point of points_ (PointsFor)
+  size_t last_point_count_ = 0;
   std::unique_ptr<Buffers> buffers_;
   std::vector<gl::TimestampQuery> stamps_;
   DepthStepTimes times_;

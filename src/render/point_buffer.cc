@@ -7,15 +7,15 @@
 #include <vector>
 
 namespace hdribr::render {
-namespace {
 
-struct GpuPoint {
+struct PointBuffer::GpuPoint {
   float position[3];
   float normal[3];
   float radius;
   float pad;
 };
-static_assert(sizeof(GpuPoint) == 32);
+
+namespace {
 
 // Spreads the low 10 bits of v to every third bit (bit i -> bit 3 i).
 std::uint32_t SpreadBits(std::uint32_t v) {
@@ -63,12 +63,13 @@ float DefaultSplatRadius(const PointCloud& cloud) {
   return static_cast<float>(diag / std::sqrt(static_cast<double>(cloud.size())));
 }
 
-PointBuffer::PointBuffer(const PointCloud& cloud, float radius_override) : count_(cloud.size()) {
+PointBuffer::PointBuffer(const PointCloud& cloud, float radius_override) {
   const float default_radius = radius_override > 0.0f
                                    ? radius_override
                                    : (cloud.HasRadii() ? 0.0f : DefaultSplatRadius(cloud));
   const std::vector<std::uint32_t> order = MortonOrder(cloud);
   std::vector<GpuPoint> points(cloud.size());
+  Bounds bounds;
   for (size_t k = 0; k < cloud.size(); ++k) {
     GpuPoint& g = points[k];
     const size_t i = order[k];
@@ -79,9 +80,15 @@ PointBuffer::PointBuffer(const PointCloud& cloud, float radius_override) : count
          radius_override > 0.0f || !cloud.HasRadii() ? default_radius : cloud.radii[i],
          0.0f};
     const Eigen::Vector3d r = Eigen::Vector3d::Constant(g.radius);
-    bounds_.Extend(p.cast<double>() - r);
-    bounds_.Extend(p.cast<double>() + r);
+    bounds.Extend(p.cast<double>() - r);
+    bounds.Extend(p.cast<double>() + r);
   }
+  *this = PointBuffer(points, bounds);
+}
+
+PointBuffer::PointBuffer(const std::vector<GpuPoint>& points, const Bounds& bounds)
+    : count_(points.size()), bounds_(bounds) {
+  static_assert(sizeof(GpuPoint) == 32);  // shaders/points_buffer.glsl
   buffer_ = gl::Buffer(points.size() * sizeof(GpuPoint), points.data());
   vao_ = gl::VertexArray::Create();
   glVertexArrayVertexBuffer(vao_.id(), 0, buffer_.id(), 0, sizeof(GpuPoint));
@@ -92,6 +99,29 @@ PointBuffer::PointBuffer(const PointCloud& cloud, float radius_override) : count
     glVertexArrayAttribFormat(vao_.id(), a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao_.id(), a, 0);
   }
+}
+
+PointBuffer PointBuffer::Decimated(int stride) const {
+  const size_t step = static_cast<size_t>(std::max(1, stride));
+  std::vector<GpuPoint> all(count_);
+  if (count_ > 0) {
+    glGetNamedBufferSubData(buffer_.id(), 0, static_cast<GLsizeiptr>(count_ * sizeof(GpuPoint)),
+                            all.data());
+  }
+  const auto scale = static_cast<float>(std::sqrt(static_cast<double>(step)));
+  std::vector<GpuPoint> points;
+  points.reserve(count_ / step + 1);
+  Bounds bounds;
+  for (size_t k = 0; k < count_; k += step) {
+    GpuPoint g = all[k];
+    g.radius *= scale;
+    const Eigen::Vector3d p(g.position[0], g.position[1], g.position[2]);
+    const Eigen::Vector3d r = Eigen::Vector3d::Constant(g.radius);
+    bounds.Extend(p - r);
+    bounds.Extend(p + r);
+    points.push_back(g);
+  }
+  return PointBuffer(points, bounds);
 }
 
 void PointBuffer::Bind() const { glBindVertexArray(vao_.id()); }

@@ -1,6 +1,8 @@
 // The point cloud on the GPU: one vertex buffer (position, normal, radius) and its layout.
 #pragma once
 
+#include <vector>
+
 #include "core/point_cloud.h"
 #include "gl/objects.h"
 
@@ -18,6 +20,10 @@ class PointBuffer {
   // DefaultSplatRadius heuristic when absent, or `radius_override` when > 0), in Morton order
   // of the positions (not the cloud's order).
   explicit PointBuffer(const PointCloud& cloud, float radius_override = 0.0f);
+  // A coarser level of this cloud: every `stride`-th point of the Morton order (a spatially
+  // even subset), radii times sqrt(stride) so that its splats cover the same surface. Reads the
+  // buffer back from the GPU.
+  PointBuffer Decimated(int stride) const;
   PointBuffer(PointBuffer&&) noexcept = default;
   PointBuffer& operator=(PointBuffer&&) noexcept = default;
 
@@ -31,6 +37,9 @@ class PointBuffer {
   const gl::Buffer& buffer() const { return buffer_; }
 
  private:
+  struct GpuPoint;
+  PointBuffer(const std::vector<GpuPoint>& points, const Bounds& bounds);
+
   gl::Buffer buffer_;
   gl::VertexArray vao_;
   size_t count_ = 0;

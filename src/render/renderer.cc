@@ -53,7 +53,8 @@ struct Renderer::Impl {
     bool unread = false;
   };
   Stamps stamps[2];
-  int newest = 0;  // the set of the newest Render()
+  int newest = 0;             // the set of the newest Render()
+  double point_detail = 1.0;  // SetPointDetail
   RenderTimes times;
 
   void ReadStamps(Stamps& s) {
@@ -183,6 +184,8 @@ void Renderer::SetMaxCandidates(int max_candidates) {
 
 int Renderer::max_candidates() const { return impl_->options.max_candidates; }
 
+void Renderer::SetPointDetail(double detail) { impl_->point_detail = detail; }
+
 namespace {
 
 // Uploads a given depth and normal into the view's depth target.
@@ -246,7 +249,7 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   if (given) {
     UploadGivenDepth(*given, target.depth);
   } else {
-    m.depth_pass.Process(cam, cam_from_world, target.depth);
+    m.depth_pass.Process(cam, cam_from_world, target.depth, m.point_detail);
   }
   stamps.t[1].Stamp();
   m.blend.Process(cam, cam_from_world, target.depth, m.options.blend,

@@ -112,6 +112,9 @@ class Renderer {
   // RendererOptions::max_candidates; throws OptionError("max_candidates", ...) below 0.
   void SetMaxCandidates(int max_candidates);
   int max_candidates() const;
+  // The view's depth pass draws a coarser level of the cloud below 1 (DepthPass::Process's
+  // `detail`): for previews rendered at a reduced size. 1 (full detail) by default.
+  void SetPointDetail(double detail);
 
   // Renders the view into `target` (intrinsics rescaled to the target size if they differ);
   // with `given`, its depth replaces the depth pass.

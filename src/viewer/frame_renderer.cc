@@ -184,14 +184,15 @@ void FrameRenderer::Render(const ViewState& state, const Rigid3d& pose, int widt
     }
     level_ = level;
     const int w = surface.target.width(), h = surface.target.height();
-    // A reduced frame also blends fewer candidate photos; the depth search runs in the frames
-    // the schedule gives it.
+    // A reduced frame also blends fewer candidate photos and draws a coarser level of the
+    // cloud; the depth search runs in the frames the schedule gives it.
     const int cap = loaded_settings_.max_candidates;
     const bool full = level == ProgressiveSchedule::kFull;
     render::Renderer& r = BaseRenderer();
     r.SetMaxCandidates(full || (cap > 0 && cap < kMotionMaxCandidates) ? cap
                                                                        : kMotionMaxCandidates);
     r.blend_options().refine_depth = schedule_.search() ? loaded_settings_.refine_depth : 0.0f;
+    r.SetPointDetail(ProgressiveSchedule::kScales[static_cast<size_t>(level)]);
     const Camera cam = camera_.Scaled(w, h);
     if (hdr_) {
       hdr_->Render(cam, pose, surface.target);

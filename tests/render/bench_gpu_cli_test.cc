@@ -44,6 +44,7 @@ TEST(BenchGpuCli, DepthRunsEveryConfiguration) {
     seen.insert(res["mode"].get<std::string>() + "/" + res["raster"].get<std::string>() + "/" +
                 std::to_string(res["width"].get<int>()));
     EXPECT_EQ(res["points"], 3000);
+    EXPECT_EQ(res["points_drawn"], 3000);  // --detail 1: every point
     EXPECT_GT(res["wall_ms"].get<double>(), 0.0);
     EXPECT_GT(res["gpu_ms"]["total"].get<double>(), 0.0);
   }
@@ -80,6 +81,16 @@ TEST(BenchGpuCli, BadSizeIsOneErrorLineAndNoJson) {
   EXPECT_NE(r.output.find("64x"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(std::filesystem::exists(json));
+}
+
+TEST(BenchGpuCli, DetailOutsideZeroToOneIsOneErrorLine) {
+  for (const std::string detail : {"0", "1.5", "-0.25"}) {
+    const auto r =
+        test::RunCommand(Exe() + " bench depth --sizes 64x48 --points 100 --detail " + detail);
+    EXPECT_EQ(r.exit_code, 64) << r.output;
+    EXPECT_NE(r.output.find("error: --detail must be in (0, 1]"), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
 }
 
 // .ci/gpu-bench packs the executable with every library ldd resolves for it here, except those

@@ -45,6 +45,15 @@ std::vector<Rigid3d> AccuracyViews() {
   return views;
 }
 
+// Every point raster with every depth mode.
+std::vector<std::pair<PointRaster, DepthMode>> RastersAndModes() {
+  std::vector<std::pair<PointRaster, DepthMode>> all;
+  for (PointRaster raster : kAllPointRasters) {
+    for (DepthMode mode : AllDepthModes()) all.emplace_back(raster, mode);
+  }
+  return all;
+}
+
 TEST_F(DepthPassTest, PointLandsOnItsPixel) {
   // A point at camera (x, y, z) must cover pixel floor(fx x/z + cx, fy y/z + cy) at depth z.
   const Camera cam = test::TestCamera(64);
@@ -111,6 +120,54 @@ TEST_F(DepthPassTest, AccuracyAndLeakage) {
   EXPECT_GT(worst_acc[DepthMode::kLechelek], worst_acc[DepthMode::kPlain]);
   EXPECT_GT(worst_acc[DepthMode::kPlain], worst_acc[DepthMode::kMarroquim]);
   EXPECT_LT(worst_leak[DepthMode::kLechelek], worst_leak[DepthMode::kPlain]);
+}
+
+// A preview at a quarter of the size (detail 0.25) draws every 16th point with splats 4 times
+// wider: the same points per pixel as the full-size pass. Levels stop at 16384 points. With
+// every point, ~160 a pixel, the nearest in each pixel's footprint wins (on slanted surfaces
+// nearer than the depth at the pixel's centre): measured on Mesa llvmpipe, accuracy within 1%
+// 93.25% with every point in every mode, 97.69% (lechelek) / 95.09% (plain) with every 16th,
+// both covering every pixel; lechelek leaks 0.017% (marroquim, which leaks by design, 0.84%).
+TEST_F(DepthPassTest, ReducedDetailDrawsACoarserLevelOfTheCloud) {
+  const AnalyticScene scene = AnalyticScene::SpheresAndPlane();
+  const size_t n = 640000;
+  DepthPass pass(*shaders_);
+  pass.SetPoints(scene.Sample(static_cast<int>(n)));
+  const Camera full = test::TestCamera(256);
+  const Camera small = full.Scaled(64, 64);
+  DepthTarget target = DepthTarget::Create(64, 64);
+  const std::map<double, size_t> drawn = {
+      {1.0, n}, {0.6, n}, {0.5, n / 4}, {0.25, n / 16}, {0.125, n / 16}};
+  for (const auto& [detail, count] : drawn) {
+    pass.Process(small, Rigid3d(), target, detail);
+    EXPECT_NEAR(static_cast<double>(pass.last_point_count()), static_cast<double>(count), 1.0)
+        << "detail " << detail;
+  }
+  for (const auto& [raster, mode] : RastersAndModes()) {
+    pass.options().raster = raster;
+    pass.options().mode = mode;
+    test::DepthCounts every, coarse;
+    for (const Rigid3d& view : AccuracyViews()) {
+      const cv::Mat gt = scene.GroundTruthDepth(small, view);
+      pass.Process(small, view, target, 1.0);
+      every += test::CompareDepth(ReadDepthTarget(target).depth, gt);
+      pass.Process(small, view, target, 0.25);
+      coarse += test::CompareDepth(ReadDepthTarget(target).depth, gt);
+    }
+    std::printf(
+        "[ figures  ] %-9s %-8s 64x64, every point / every 16th: accuracy(1%%) %.2f%% / "
+        "%.2f%%, leakage %.3f%% / %.3f%%, coverage %.2f%% / %.2f%%\n",
+        DepthModeName(mode).c_str(), PointRasterName(raster).c_str(), 100 * every.accuracy(),
+        100 * coarse.accuracy(), 100 * every.leakage(), 100 * coarse.leakage(),
+        100 * every.coverage(), 100 * coarse.coverage());
+    EXPECT_GE(coarse.coverage(), every.coverage() - 0.001)
+        << DepthModeName(mode) << " " << PointRasterName(raster);
+    EXPECT_GE(coarse.accuracy(), every.accuracy())
+        << DepthModeName(mode) << " " << PointRasterName(raster);
+    if (mode != DepthMode::kMarroquim) {
+      EXPECT_LE(coarse.leakage(), 0.001) << DepthModeName(mode) << " " << PointRasterName(raster);
+    }
+  }
 }
 
 TEST_F(DepthPassTest, StepOnePinholesAreCoveredGapsAreNot) {
