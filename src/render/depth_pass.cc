@@ -191,19 +191,24 @@ void DepthPass::SetPoints(const PointCloud& cloud, float radius_override) {
 }
 
 const PointBuffer& DepthPass::PointsFor(double detail) {
-  // Level l (0 = every point) draws every 4^l-th point: the coarsest with 4^l <= 1 / detail^2,
-  // among the levels of at least kMinLevelPoints (below that the per-point steps cost little).
-  constexpr size_t kLevelStride = 4, kMaxLevels = 3, kMinLevelPoints = 16384;
-  const double max_stride = detail > 0 && detail < 1 ? 1.0 / (detail * detail) : 1.0;
-  size_t level = 0;
-  for (size_t stride = kLevelStride;
-       level < kMaxLevels && static_cast<double>(stride) <= max_stride &&
-       points_.size() / stride >= kMinLevelPoints;
-       stride *= kLevelStride) {
-    if (level == coarse_.size()) coarse_.push_back(points_.Decimated(static_cast<int>(stride)));
-    ++level;
+  // Every k-th point, k the largest power of 2 up to 1 / (2 detail^2) (at most 64) that leaves
+  // at least kMinLevelPoints (below that the per-point steps cost little): a pixel meets twice
+  // the points of a full-size pixel. No level below every 4th point: every 2nd saves at most half
+  // of the per-point steps, and at half size it strays further from the full-size picture than
+  // every point does (docs/benchmarks.md, "Reduced frames: a coarser level of the cloud").
+  constexpr size_t kMinStride = 4, kMaxStride = 64, kMinLevelPoints = 16384;
+  const double max_stride = detail > 0 && detail < 1 ? 0.5 / (detail * detail) : 1.0;
+  size_t stride = 1;
+  while (stride < kMaxStride && static_cast<double>(2 * stride) <= max_stride &&
+         points_.size() / (2 * stride) >= kMinLevelPoints) {
+    stride *= 2;
   }
-  return level == 0 ? points_ : coarse_[level - 1];
+  if (stride < kMinStride) return points_;
+  auto it = coarse_.find(stride);
+  if (it == coarse_.end()) {
+    it = coarse_.emplace(stride, points_.Decimated(static_cast<int>(stride))).first;
+  }
+  return it->second;
 }
 
 // What the steps of one Process() call share.

@@ -112,8 +112,8 @@ class DepthPass {
   // Renders the cloud seen by `camera` (pinhole; intrinsics are rescaled to the target size
   // when it differs from camera.width x camera.height) into `target`. `detail` in (0, 1]: the
   // target's size per axis relative to the picture it previews; below 1 a coarser level of the
-  // cloud is drawn (every k-th point, k <= 1 / detail^2, splats sqrt(k) times wider), so that a
-  // pixel meets about as many points as at full size.
+  // cloud may be drawn (every k-th point, k a power of 2 from 4 up to 1 / (2 detail^2), splats
+  // sqrt(k) times wider), so that a pixel meets about twice the points of a full-size pixel.
   void Process(const Camera& camera, const Rigid3d& cam_from_world, DepthTarget& target,
                double detail = 1.0);
   // Points drawn by the newest Process().
@@ -148,7 +148,7 @@ class DepthPass {
   gl::Program resolve_holes_;
   PullPushPass pull_push_;
   PointBuffer points_;
-  std::vector<PointBuffer> coarse_;  // every 4th, 16th, ... point of points_ (PointsFor)
+  std::map<size_t, PointBuffer> coarse_;  // stride -> every stride-th point of points_ (PointsFor)
   size_t last_point_count_ = 0;
   std::unique_ptr<Buffers> buffers_;
   std::vector<gl::TimestampQuery> stamps_;
