@@ -6,6 +6,7 @@
 #include <cmath>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+#include <tuple>
 
 #include "core/error.h"
 #include "frontend/ncc.h"
@@ -17,6 +18,11 @@ namespace hdribr {
 namespace fs = std::filesystem;
 
 namespace {
+
+// A photo's farthest sparse point bounds its depth range unless it lies beyond this many times the
+// 98th percentile of their depths (an outlier): far content (a building across a square) may
+// hold only a few sparse points.
+constexpr double kFarOutlier = 4.0;
 
 // K for OpenCV's pixel convention (pixel centres at integer coordinates): COLMAP's cx - 0.5.
 Eigen::Matrix3d OpenCvK(const Camera& c) {
@@ -225,6 +231,14 @@ DepthMap ComputeDepthMap(const DepthMap& ref_in, const std::vector<const DepthMa
   return ref;
 }
 
+std::pair<double, double> SparseDepthRange(std::vector<double> depths) {
+  if (depths.empty()) return {0.0, 0.0};
+  std::sort(depths.begin(), depths.end());
+  const double lo = depths[depths.size() * 2 / 100], z98 = depths[depths.size() * 98 / 100];
+  const double hi = std::min(depths.back(), kFarOutlier * z98);
+  return {0.75 * lo, 1.25 * hi};
+}
+
 int DepthMapSize(const ColmapModel& model, const DenseOptions& options) {
   if (options.max_size > 0) return options.max_size;
   if (model.images.empty()) return options.min_auto_size;
@@ -289,10 +303,7 @@ DenseResult DensifyCpu(const ColmapModel& model, const fs::path& images_dir,
     }
     for (int nid : maps[i].neighbors) tasks[i].sources.push_back(index.at(nid));
     if (z.size() < 10) continue;
-    std::sort(z.begin(), z.end());
-    const double lo = z[z.size() * 2 / 100], hi = z[z.size() * 98 / 100];
-    tasks[i].depth_min = 0.75 * lo;
-    tasks[i].depth_max = 1.25 * hi;
+    std::tie(tasks[i].depth_min, tasks[i].depth_max) = SparseDepthRange(std::move(z));
   }
 
   if (options.method == DenseMethod::kPatchMatch) {

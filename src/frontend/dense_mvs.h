@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <opencv2/core.hpp>
+#include <utility>
 #include <vector>
 
 #include "core/point_cloud.h"
@@ -32,7 +33,7 @@ struct PatchMatchOptions {
   int geom_iterations = 1;      // iterations of the geometric-consistency pass (0: none)
   float geom_weight = 0.2f;     // cost per pixel of forward-backward reprojection error
   float geom_max_error = 3.0f;  // reprojection error clamp (pixels at the finest level)
-  int best_views = 0;           // source costs averaged per pixel (0: half the sources)
+  int best_views = 0;           // source costs averaged per pixel, of those framing it (0: half)
   float min_ncc = 0.3f;         // NCC of the best views needed to keep a depth
   float min_texture = 2e-5f;    // intensity variance of the window needed to keep a depth
   int seed_radius = 1;          // sparse-point depth seeds cover this radius at the coarsest
@@ -84,6 +85,10 @@ struct DenseResult {
 // Source photos of each photo: the ones sharing the most sparse points at a triangulation angle
 // of at least 2 degrees. Returns image id -> neighbour ids (best first).
 std::map<int, std::vector<int>> SelectNeighbors(const ColmapModel& model, int k);
+
+// Depth range (camera z) of a photo from the depths of the sparse points it sees: the 2nd
+// percentile to the farthest point (unless beyond 4 times the 98th percentile), widened by 25 %.
+std::pair<double, double> SparseDepthRange(std::vector<double> depths);
 
 // Largest side of the depth maps: options.max_size, or when 0 the side at which the model's photos
 // (each at its own aspect) share options.pixel_budget, at least options.min_auto_size. Photos

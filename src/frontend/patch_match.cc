@@ -176,17 +176,24 @@ inline float Bilinear(const cv::Mat& img, float u, float v) {
 }
 
 // 1 - weighted NCC of the reference window with the source patch through homography `hm`.
+// `framed` is set when the whole patch lies inside the source photo.
 float SourcePhotoCost(const Level& lv, const SourceView& src, const Mat3& hm, int x, int y,
-                      const std::vector<float>& a, const std::vector<float>& b) {
-  const Vec3 center = hm * Vec3(float(x), float(y), 1.f);
-  if (!(center.z() > 0)) return kMaxCost;
+                      const std::vector<float>& a, const std::vector<float>& b, bool* framed) {
   const cv::Mat& img = src.image->gray;
-  const float cu = center.x() / center.z(), cv = center.y() / center.z();
-  if (!(cu >= 0 && cv >= 0 && cu <= img.cols - 1 && cv <= img.rows - 1)) return kMaxCost;
+  auto inside = [&](const Vec3& p) {
+    if (!(p.z() > 0)) return false;
+    const float u = p.x() / p.z(), v = p.y() / p.z();
+    return u >= 0 && v >= 0 && u <= img.cols - 1 && v <= img.rows - 1;
+  };
+  const Vec3 center = hm * Vec3(float(x), float(y), 1.f);
+  if (!inside(center)) return kMaxCost;
   const WindowGrid& win = *lv.window;
   const float o0 = static_cast<float>(win.offsets.front());
+  const float o1 = static_cast<float>(win.offsets.back());
   const float step = win.n > 1 ? static_cast<float>(win.offsets[1] - win.offsets[0]) : 1.f;
   const Vec3 hx = hm.col(0), hy = hm.col(1);
+  *framed = inside(center + o0 * hx + o0 * hy) && inside(center + o1 * hx + o0 * hy) &&
+            inside(center + o0 * hx + o1 * hy) && inside(center + o1 * hx + o1 * hy);
   Vec3 row = center + o0 * hx + o0 * hy;
   const Vec3 sx = step * hx, sy = step * hy;
   float s1 = 0, s2 = 0, s3 = 0;
@@ -241,8 +248,9 @@ float ReprojectionError(const Level& lv, const SourceView& src, const Vec3& xr, 
 }
 
 // Cost of the plane through depth `d` at pixel (x, y) with normal `n`: mean of the best views'
-// costs (per-pixel view selection, so that sources where the pixel is occluded do not vote).
-// `ncc` gets the mean NCC of those views.
+// costs (per-pixel view selection, so that sources where the pixel is occluded do not vote)
+// among the sources that frame the patch, or all of them when none does. `ncc` gets the mean
+// NCC of those views.
 float PlaneCost(const Level& lv, int x, int y, const Vec3& ray, float d, const Vec3& n,
                 const std::vector<float>& a, const std::vector<float>& b, float* ncc) {
   const float nr = n.dot(ray);
@@ -255,16 +263,21 @@ float PlaneCost(const Level& lv, int x, int y, const Vec3& ray, float d, const V
   std::array<float, kMaxSources> photo, total;
   std::array<int, kMaxSources> order;
   const Vec3 xr = d * ray;
+  // The sources that frame the patch first in `order`.
+  int framing = 0;
   for (int s = 0; s < ns; ++s) {
     const SourceView& src = lv.sources[s];
     const Mat3 hm = src.a + src.b * m.transpose();
-    photo[s] = SourcePhotoCost(lv, src, hm, x, y, a, b);
+    bool framed = false;
+    photo[s] = SourcePhotoCost(lv, src, hm, x, y, a, b, &framed);
     total[s] = photo[s];
     if (lv.geometric) total[s] += lv.geom_weight * ReprojectionError(lv, src, xr, x, y);
     order[s] = s;
+    if (framed) std::swap(order[s], order[framing++]);
   }
-  const int k = std::min(lv.best_views, ns);
-  std::partial_sort(order.begin(), order.begin() + k, order.begin() + ns,
+  const int pool = framing > 0 ? framing : ns;
+  const int k = std::min(lv.best_views, pool);
+  std::partial_sort(order.begin(), order.begin() + k, order.begin() + pool,
                     [&](int i, int j) { return total[i] < total[j]; });
   float sum_total = 0, sum_photo = 0;
   for (int i = 0; i < k; ++i) {

@@ -195,6 +195,22 @@ TEST(DenseMvs, DepthMapSizeSharesThePixelBudget) {
   EXPECT_EQ(DepthMapSize(PhotosOfSize(4, 800, 600), fixed), 300);
 }
 
+TEST(DenseMvs, SparseDepthRangeReachesFewFarPoints) {
+  // 200 points on a wall 4-6 m away and 3 on a building at 20 m (1.5 %, above the 98th
+  // percentile): the range reaches the building.
+  std::vector<double> z;
+  for (int i = 0; i < 200; ++i) z.push_back(4.0 + 2.0 * i / 199);
+  for (double far : {19.0, 20.0, 21.0}) z.push_back(far);
+  auto [near, far] = SparseDepthRange(z);
+  EXPECT_NEAR(near, 0.75 * z[4], 1e-9);
+  EXPECT_NEAR(far, 1.25 * 21.0, 1e-9);
+  // One point at 500 m lies beyond 4 times the 98th percentile (6 m): an outlier.
+  z.push_back(500.0);
+  std::tie(near, far) = SparseDepthRange(z);
+  EXPECT_NEAR(far, 1.25 * 4.0 * 6.0, 1e-9);
+  EXPECT_EQ(SparseDepthRange({}), std::make_pair(0.0, 0.0));
+}
+
 // Where one map disagrees, a depth with one agreeing map is kept only when its NCC reaches
 // single_agreement_ncc; elsewhere two maps agree and every depth is kept.
 TEST(DenseMvs, FusionKeepsWellMatchedDepthsThatOneMapConfirms) {

@@ -178,5 +178,32 @@ TEST(PatchMatch, CoarsePlanesFillWhatFailsAtFullSize) {
   EXPECT_GE(on.within5, 0.8 * on.valid);
 }
 
+TEST(PatchMatch, PixelsThatOneSourceFramesGetTheirDepth) {
+  // Photos 0-2 only (centres x = -0.3, 0, 0.3): the left border of photo 1 is framed by photo 0
+  // alone. Two best views per pixel: a source that does not frame the patch must not vote, or
+  // every plane there costs the mean of one NCC and the worst cost, and the depth is lost.
+  std::vector<DepthMap> maps = RenderViews(Texture(1.f), kCamera);
+  maps.pop_back();
+  DenseOptions o;
+  o.threads = 2;
+  o.patch_match.best_views = 2;
+  PatchMatchDepthMaps(maps, Tasks(maps, 30), o);
+  // Photo 2 frames world x >= 0.3 - 0.53 z, from pixel 14 of photo 1 on, and its whole patch
+  // from pixel 19 on; the first 5 pixels' windows are clamped at the border.
+  const Figures one = Measure(maps[1], cv::Rect(5, 20, 8, 80));
+  const Figures edge = Measure(maps[1], cv::Rect(13, 20, 8, 80));
+  std::cout << "framed by one source: valid " << 100.0 * one.valid / one.pixels
+            << "%, depth within 1% " << 100.0 * one.accurate / std::max(1, one.valid)
+            << "%, within 5% " << 100.0 * one.within5 / std::max(1, one.valid)
+            << "%; at the second source's frame edge: valid " << 100.0 * edge.valid / edge.pixels
+            << "%, within 1% " << 100.0 * edge.accurate / std::max(1, edge.valid) << "%\n";
+  EXPECT_GT(one.valid, 0.9 * one.pixels);
+  // One source of baseline 0.3 at z ~ 3.5: 1 % of depth is 0.13 pixel of disparity.
+  EXPECT_GE(one.within5, 0.95 * one.valid);
+  // A source whose patch leaves its frame does not pull the plane there.
+  EXPECT_GT(edge.valid, 0.9 * edge.pixels);
+  EXPECT_GE(edge.accurate, 0.95 * edge.valid);
+}
+
 }  // namespace
 }  // namespace hdribr
