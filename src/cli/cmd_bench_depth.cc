@@ -104,7 +104,8 @@ int Run(const BenchDepthOptions& opt) {
           }
           gpu["total"] = sum.gpu_total_ms();
           step_wall["total"] = sum.wall_total_ms();
-          const auto drawn = static_cast<double>(pass.last_point_count());
+          const size_t drawn = pass.last_point_count();
+          const auto per_s = [&](double ms) { return static_cast<double>(drawn) / (ms * 1e-3); };
           nlohmann::json r = {
               {"mode", render::DepthModeName(mode)},
               {"raster", render::PointRasterName(raster)},
@@ -112,19 +113,19 @@ int Run(const BenchDepthOptions& opt) {
               {"height", h},
               {"points", n},
               {"detail", opt.detail},
-              {"points_drawn", pass.last_point_count()},
+              {"points_drawn", drawn},
               {"frames", opt.frames},
               {"wall_ms", wall_ms},
               {"gpu_ms", gpu},
               {"step_wall_ms", step_wall},
-              {"points_per_s", drawn / (wall_ms * 1e-3)},
+              {"points_per_s", per_s(wall_ms)},
           };
-          if (sum.gpu_ms[0] > 0) r["splat_points_per_s_gpu"] = drawn / (sum.gpu_ms[0] * 1e-3);
-          if (sum.wall_ms[0] > 0) r["splat_points_per_s_wall"] = drawn / (sum.wall_ms[0] * 1e-3);
+          if (sum.gpu_ms[0] > 0) r["splat_points_per_s_gpu"] = per_s(sum.gpu_ms[0]);
+          if (sum.wall_ms[0] > 0) r["splat_points_per_s_wall"] = per_s(sum.wall_ms[0]);
           results.push_back(r);
           spdlog::info("{} ({} raster) {}x{} {} points ({} drawn): {:.1f} ms/frame",
-                       render::DepthModeName(mode), render::PointRasterName(raster), w, h, n,
-                       pass.last_point_count(), wall_ms);
+                       render::DepthModeName(mode), render::PointRasterName(raster), w, h, n, drawn,
+                       wall_ms);
         }
     }
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 
 #include "core/error.h"
@@ -204,11 +205,17 @@ const PointBuffer& DepthPass::PointsFor(double detail) {
     stride *= 2;
   }
   if (stride < kMinStride) return points_;
-  auto it = coarse_.find(stride);
-  if (it == coarse_.end()) {
-    it = coarse_.emplace(stride, points_.Decimated(static_cast<int>(stride))).first;
+  auto it = coarse_.lower_bound(stride);
+  if (it != coarse_.end() && it->first == stride) return it->second;
+  // From the finest level already built (every stride is a power of 2, so a finer one divides
+  // it: the same points, and less to read back than the whole cloud).
+  if (it != coarse_.begin()) {
+    const auto& [finer_stride, finer] = *std::prev(it);
+    return coarse_
+        .emplace_hint(it, stride, finer.Decimated(static_cast<int>(stride / finer_stride)))
+        ->second;
   }
-  return it->second;
+  return coarse_.emplace_hint(it, stride, points_.Decimated(static_cast<int>(stride)))->second;
 }
 
 // What the steps of one Process() call share.

@@ -145,6 +145,19 @@ TEST_F(DepthPassTest, ReducedDetailDrawsACoarserLevelOfTheCloud) {
     EXPECT_NEAR(static_cast<double>(pass.last_point_count()), static_cast<double>(count), 1.0)
         << "detail " << detail;
   }
+  // The loop above built each level from the whole cloud (coarsest first); fine to coarse, each
+  // is built from the finest one already built (4 -> 8 -> 32): the same points and sizes.
+  DepthPass fine_first(*shaders_);
+  fine_first.SetPoints(scene.Sample(static_cast<int>(n)));
+  DepthTarget other = DepthTarget::Create(64, 64);
+  const Rigid3d side = AccuracyViews().back();
+  for (double detail : {1.0 / 3, 0.25, 0.125}) {
+    fine_first.Process(small, side, other, detail);
+    pass.Process(small, side, target, detail);
+    EXPECT_EQ(fine_first.last_point_count(), pass.last_point_count()) << "detail " << detail;
+    const cv::Mat a = ReadDepthTarget(other).depth, b = ReadDepthTarget(target).depth;
+    EXPECT_LE(cv::countNonZero(cv::abs(a - b) > 1e-4f), 4) << "detail " << detail;
+  }
   for (const auto& [raster, mode] : RastersAndModes()) {
     pass.options().raster = raster;
     pass.options().mode = mode;
