@@ -19,6 +19,12 @@ namespace hdribr {
 // Depth map algorithm of the CPU densifier.
 enum class DenseMethod { kPatchMatch, kSweep };
 
+// Version of the CPU densifier's algorithms (PatchMatch, the sweep, consistency and fusion),
+// recorded in a workspace's dense-stage marker: a change of the code that alters the clouds it
+// makes from the same photos and options increments it, so that `reconstruct` redoes the dense
+// stage of workspaces made before.
+inline constexpr int kDenseVersion = 2;
+
 // PatchMatch stereo parameters (frontend/patch_match.h).
 struct PatchMatchOptions {
   int window_radius = 5;     // NCC window (2r+1)^2 ...

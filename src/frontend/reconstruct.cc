@@ -427,6 +427,7 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
     add("radius-neighbors", a.radius_neighbors);
     const DenseOptions& d = o.dense_options;
     if (mode == "cpu" || mode == "sweep") {
+      add("dense-version", kDenseVersion);
       add("dense-size", d.max_size > 0 ? std::to_string(d.max_size) : "auto");
       add("dense-neighbors", d.num_neighbors);
       add("fusion-consistency", d.consistency);

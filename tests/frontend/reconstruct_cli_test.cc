@@ -8,6 +8,8 @@
 
 #include "eval/camera_accuracy.h"
 #include "eval/cloud_accuracy.h"
+#include "frontend/dense_mvs.h"
+#include "io/atomic_file.h"
 #include "io/colmap_model.h"
 #include "io/ply.h"
 #include "test_util.h"
@@ -124,15 +126,24 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
 
   // Multi-view stereo that keeps nothing (no depth reaches an NCC of 1): the workspace keeps
   // the sparse points, says so, and renders them with the background. The changed option
-  // redoes the dense stage alone.
+  // redoes the dense stage alone, as does a marker written before the densifier's version was
+  // recorded (its line removed here).
   const fs::path bare = dir / "ws_bare";
   fs::copy(ws, bare, fs::copy_options::recursive);
+  const fs::path marker = bare / "logs/dense.done";
+  const std::string version_line = "dense-version=" + std::to_string(kDenseVersion) + "\n";
+  std::string settings = ReadFileToString(marker);
+  const size_t at = settings.find(version_line);
+  ASSERT_NE(at, std::string::npos) << settings;
+  WriteFileAtomic(marker, settings.erase(at, version_line.size()));
   const auto none = test::RunCommand(Exe() + " reconstruct " + (dir / "cap/photos").string() + " " +
                                      bare.string() + " --dense-size 300 --dense-min-ncc 1 2>&1");
   ASSERT_EQ(none.exit_code, 0) << none.output;
   EXPECT_NE(none.output.find("undistortion: done before, skipped"), std::string::npos)
       << none.output;
-  EXPECT_NE(none.output.find("dense: redone, its options changed: dense-min-ncc 0.3 -> 1\n"),
+  EXPECT_NE(none.output.find("dense: redone, its options changed: dense-min-ncc 0.3 -> 1, "
+                             "dense-version (none) -> " +
+                             std::to_string(kDenseVersion) + "\n"),
             std::string::npos)
       << none.output;
   EXPECT_NE(none.output.find("the workspace keeps the sparse points"), std::string::npos)
