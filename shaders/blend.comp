@@ -139,6 +139,11 @@ const float u_filter = 0.0;
 #ifndef KEEP
 #define KEEP 5
 #endif
+// Weight of delta_k against the angle in the Unstructured Lumigraph penalty
+// (kUlrDistanceWeight of core/photo_candidates.h).
+#ifndef DELTA_WEIGHT
+#define DELTA_WEIGHT 0.3
+#endif
 
 const float kHalfPi = 1.5707963;
 const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
@@ -354,7 +359,8 @@ float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
     vec3 pk;
     if (!ProjectInto(i, s, px, pk)) continue;
     float delta;
-    float p = acos(clamp(dot(s.V, TowardPhoto(i, s, delta)), -1.0, 1.0)) + delta;
+    float p =
+        acos(clamp(dot(s.V, TowardPhoto(i, s, delta)), -1.0, 1.0)) + DELTA_WEIGHT * delta;
     for (int j = 0; j < kMarchPhotos; ++j) {  // insertion with constant indices
       if (p < best_p[j]) {
         float t_p = best_p[j];
@@ -385,7 +391,7 @@ bool Beats(float key, int i, float key2, int i2) { return key > key2 || (key == 
 // feather a factor in (0, 1] of the final weight (for the background: falling to 0 at the
 // photo's frame, so that no seam shows where a photo's frame crosses the sky; for points, the
 // soft visibility or 1), penalty the Unstructured Lumigraph penalty angle(V, V_k) (radians) +
-// delta_k. At infinity V_k = V (angle 0, cos 1), and delta_k is the distance |C_k - C| between
+// DELTA_WEIGHT delta_k. At infinity V_k = V (angle 0, cos 1), and delta_k is the distance |C_k - C| between
 // the centres: what lies beyond the points is far but not infinitely far, and its parallax
 // grows with that distance (the limit of eq. 4, (C_k - C) . d, would ignore sideways offsets).
 float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float feather,
@@ -418,7 +424,7 @@ float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float f
     feather = max(clamp(min(border.x, border.y) / (kFeather * max(size.x, size.y)), 0.0, 1.0),
                   1e-3);
   }
-  if (NEAREST == 0) penalty = acos(min(cos_k, 1.0)) + delta;
+  if (NEAREST == 0) penalty = acos(min(cos_k, 1.0)) + DELTA_WEIGHT * delta;
   // The weight with full visibility bounds the weight (eq. 5).
   if ((ulr ? -penalty : NEAREST == 0 ? feather * cos_k / (delta + 1.0) : feather) < min_key) {
     return 0.0;

@@ -149,11 +149,11 @@ PhotoCandidates::Rows PhotoCandidates::GatherRows(const std::vector<int>& allowe
 
 // Visible sample points (in front of the view, inside its image, facing it), each ranking the
 // photos that see it (in front, inside the photo, facing it, not hidden in its occlusion grid)
-// by the Unstructured Lumigraph penalty of the blend: angle(V, V_k) + | |C - P| - |C_k - P| | /
-// scene_scale. Each point votes for its 2 x `demand` best photos (the second half stands in
-// where a better photo is occluded at a finer scale than the grid's) with the Unstructured
-// Lumigraph's weight 1 - p / t, t = the next penalty (pi / 2 when no other photo sees the
-// point), and 1 for the best when every weight is 0, as in the blend: votes vary continuously
+// by the Unstructured Lumigraph penalty of the blend: angle(V, V_k) + kUlrDistanceWeight
+// | |C - P| - |C_k - P| | / scene_scale. Each point votes for its 2 x `demand` best photos (the
+// second half stands in where a better photo is occluded at a finer scale than the grid's) with the
+// Unstructured Lumigraph's weight 1 - p / t, t = the next penalty (pi / 2 when no other photo sees
+// the point), and 1 for the best when every weight is 0, as in the blend: votes vary continuously
 // with the view.
 PhotoCandidates::Votes PhotoCandidates::CollectVotes(const Camera& camera,
                                                      const Rigid3d& cam_from_world,
@@ -212,10 +212,11 @@ PhotoCandidates::Votes PhotoCandidates::CollectVotes(const Camera& camera,
                   .max(0.0f)
                   .min(1e-30f) *
               1e30f;
-    // acos on [0, 1] (Abramowitz & Stegun 4.4.45, error below 7e-5 rad), plus delta_k.
+    // acos on [0, 1] (Abramowitz & Stegun 4.4.45, error below 7e-5 rad), plus weighted delta_k.
     penalty = (1.0f - cos_k).sqrt() *
                   (1.5707288f + cos_k * (-0.2121144f + cos_k * (0.0742610f - 0.0187293f * cos_k))) +
-              (dist_c - dist_k).abs() * inv_scale + (1.0f - seen_by) * kNotSeen;
+              (dist_c - dist_k).abs() * (kUlrDistanceWeight * inv_scale) +
+              (1.0f - seen_by) * kNotSeen;
     votes.seen += seen_by;
     // The `ranked` smallest penalties of the photos that see the point and do not hide it,
     // sorted by insertion (ties: the earlier row first).

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/photo_candidates.h"
 
 namespace hdribr::render {
 namespace {
@@ -58,7 +59,8 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, in
                        {"CACHED_DEPTH", cached_depth ? "1" : "0"},
                        {"CUBIC", options.sampling == PhotoSampling::kCubic ? "1" : "0"},
                        {"OUTLIER", RejectsOutliers(options, sum_all, float_photos) ? "1" : "0"},
-                       {"REFINE", RefinesDepth(options, sum_all) ? "1" : "0"}};
+                       {"REFINE", RefinesDepth(options, sum_all) ? "1" : "0"},
+                       {"DELTA_WEIGHT", std::to_string(kUlrDistanceWeight)}};
   if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
 }
