@@ -139,10 +139,10 @@ const float u_filter = 0.0;
 #ifndef KEEP
 #define KEEP 5
 #endif
-// Weight of delta_k against the angle in the Unstructured Lumigraph penalty
-// (kUlrDistanceWeight of core/photo_candidates.h).
+// Weight of delta_k against the angle in the Unstructured Lumigraph penalty: set by BlendPass
+// from kUlrDistanceWeight (core/photo_candidates.h), its one home.
 #ifndef DELTA_WEIGHT
-#define DELTA_WEIGHT 0.3
+#error "DELTA_WEIGHT must be defined (render/blend_pass.cc, ProgramModes)"
 #endif
 
 const float kHalfPi = 1.5707963;
@@ -391,9 +391,10 @@ bool Beats(float key, int i, float key2, int i2) { return key > key2 || (key == 
 // feather a factor in (0, 1] of the final weight (for the background: falling to 0 at the
 // photo's frame, so that no seam shows where a photo's frame crosses the sky; for points, the
 // soft visibility or 1), penalty the Unstructured Lumigraph penalty angle(V, V_k) (radians) +
-// DELTA_WEIGHT delta_k. At infinity V_k = V (angle 0, cos 1), and delta_k is the distance |C_k - C| between
-// the centres: what lies beyond the points is far but not infinitely far, and its parallax
-// grows with that distance (the limit of eq. 4, (C_k - C) . d, would ignore sideways offsets).
+// DELTA_WEIGHT delta_k. At infinity V_k = V (angle 0, cos 1), and delta_k is the distance
+// |C_k - C| between the centres: what lies beyond the points is far but not infinitely far, and
+// its parallax grows with that distance (the limit of eq. 4, (C_k - C) . d, would ignore
+// sideways offsets).
 float Weight(int i, Sample s, bool ulr, float min_key, out vec3 uvl, out float feather,
              out float penalty) {
   uvl = vec3(0.0);
