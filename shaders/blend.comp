@@ -7,8 +7,8 @@
 // and N_p . V_k > lambda (sec. 4, "Occlusion and visibility"). Beyond the paper, pixels
 // without depth can show a background (BACKGROUND): a sphere around the scene or a surface
 // at infinity, seen by the photos whose depth maps hold no point there either, or the surface
-// that the photos' depth maps hold along the pixel's ray (HoleDepth). Docs:
-// docs/algorithms.md.
+// that the photos' depth maps hold along the pixel's ray (HoleDepth), or the depth along it
+// where the photos agree (SweepDepth). Docs: docs/algorithms.md.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // One per scene photo (std430, matches PhotoGpu in blend_pass.cc).
@@ -148,9 +148,14 @@ const float u_filter = 0.0;
 const float kHalfPi = 1.5707963;
 const float kFeather = 0.05;  // feathered band at a photo's frame, share of its longer side
 const int kMarchSteps = 64;   // MarchDepth: steps along the ray before the bisection
+const int kRankPhotos = 4;   // RankByPenalty: photos ranked
 const int kMarchPhotos = 2;  // HoleDepth: photos marched, smallest penalty first
 const float kMarchNear = 0.01;  // MarchDepth: nearest view depth searched, in scene scales
 const float kMarchTolerance = 0.05;  // MarchDepth: relative depth gap of a continuous surface
+const int kSweepSteps = 64;     // SweepDepth: depths, uniform in inverse depth, before refining
+const float kSweepNear = 0.5;   // SweepDepth: nearest view depth searched, in scene scales
+const float kSweepPatch = 2.0;  // SweepDepth: offset of the patch's 4 diagonal rays, view pixels
+const float kSweepMaxCost = 0.02;  // SweepDepth: largest SweepCost accepted (ln units^2)
 const float kCubicMaxLod = 0.5;  // CUBIC: coarser levels of detail are sampled trilinearly
 const int kRefineSteps = 1;     // REFINE: depths tested on each side of the depth pass's z
 const float kRefinePatch = 1.0;  // REFINE: offset of the patch's 4 diagonal rays, view pixels
@@ -340,18 +345,13 @@ float MarchDepth(int i, vec3 C, vec3 d, float t0, float t1) {
   return 0.0;
 }
 
-// Where a background sample that no photo passes (each photo's depth map holds a point where
-// the sample projects: a hole in the view's geometry), or without a background a pixel without
-// depth (s: its ray's direction), lies on the photos' surfaces: the view depth at which its ray
-// meets the depth map of the first of the kMarchPhotos photos with the smallest Unstructured
-// Lumigraph penalty (angle + distance, as in Weight) among those that frame it that holds a
-// continuous surface along the ray; 0 when none does.
-float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
-  float best_p[kMarchPhotos];
-  int best_i[kMarchPhotos];
-  for (int j = 0; j < kMarchPhotos; ++j) {
+// The kRankPhotos photos that frame sample s with the smallest Unstructured Lumigraph penalty
+// (angle + distance, as in Weight), smallest first; -1 past the photos that frame it.
+void RankByPenalty(Sample s, out int ids[kRankPhotos]) {
+  float best_p[kRankPhotos];
+  for (int j = 0; j < kRankPhotos; ++j) {
     best_p[j] = 3.0e38;
-    best_i[j] = -1;
+    ids[j] = -1;
   }
   for (int a = 0; a < u_active_count; ++a) {
     int i = active_photos[a];
@@ -361,20 +361,30 @@ float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
     float delta;
     float p =
         acos(clamp(dot(s.V, TowardPhoto(i, s, delta)), -1.0, 1.0)) + DELTA_WEIGHT * delta;
-    for (int j = 0; j < kMarchPhotos; ++j) {  // insertion with constant indices
+    for (int j = 0; j < kRankPhotos; ++j) {  // insertion with constant indices
       if (p < best_p[j]) {
         float t_p = best_p[j];
-        int t_i = best_i[j];
+        int t_i = ids[j];
         best_p[j] = p;
-        best_i[j] = i;
+        ids[j] = i;
         p = t_p;
         i = t_i;
       }
     }
   }
+}
+
+// Where a background sample that no photo passes (each photo's depth map holds a point where
+// the sample projects: a hole in the view's geometry), or without a background a pixel without
+// depth (s: its ray's direction), lies on the photos' surfaces: the view depth at which its ray
+// meets the depth map of the first of the kMarchPhotos photos ranked first by RankByPenalty
+// that holds a continuous surface along the ray; 0 when none does.
+float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
+  int ids[kRankPhotos];
+  RankByPenalty(s, ids);
   float t0 = kMarchNear / u_inv_scene_scale;
   for (int j = 0; j < kMarchPhotos; ++j) {
-    float t = best_i[j] >= 0 ? MarchDepth(best_i[j], C, d, t0, t_far) : 0.0;
+    float t = ids[j] >= 0 ? MarchDepth(ids[j], C, d, t0, t_far) : 0.0;
     if (t > 0.0) return t;
   }
   return 0.0;
@@ -542,6 +552,107 @@ vec3 Blended(int i, vec3 c, out vec3 hat) {
   return c;
 }
 
+// ln of photo i's blended quantity (radiance: g(Z) + ln of the exposure) at its camera pixel
+// px and level of detail lod, at least ln 1e-4: a gain between photos adds the same to every
+// pixel.
+vec3 LogValue(int i, vec2 px, float lod) {
+  vec4 tex = photos[i].tex;
+  vec3 c = FetchPhoto(i, vec3(clamp(px * tex.xy, vec2(0.0), tex.zw), lod));
+  return ENCODING == 1 ? max(ResponseLog(c) + log(photos[i].center.w), vec3(log(1e-4)))
+                       : log(max(c, vec3(1e-4)));
+}
+
+// Disagreement of the ranked photos ids at view depth z on the view's ray C + z d, and when
+// rays_used is 5 on 4 diagonal rays d +- dx +- dy beside it at the same depth: the variance of
+// their log values (LogValue), summed over RGB and averaged over the rays, among the photos
+// that see the centre ray's point (their depth map holds no surface there) and frame each
+// ray's. False in ok when fewer than two photos see it, or when one holds a surface beyond it:
+// it saw through the point, which lies in free space.
+float SweepCost(vec3 C, vec3 d, vec3 dx, vec3 dy, float z, int ids[kRankPhotos], int rays_used,
+                out bool ok) {
+  float cost = 0.0;
+  ok = false;
+  vec3 rays[5] = vec3[5](d, d + dx + dy, d + dx - dy, d - dx + dy, d - dx - dy);
+  bool sees[kRankPhotos];
+  for (int r = 0; r < rays_used; ++r) {
+    vec3 P = C + rays[r] * z;
+    vec3 m = vec3(0.0), m2 = vec3(0.0);
+    float n = 0.0;
+    for (int j = 0; j < kRankPhotos; ++j) {
+      int i = ids[j];
+      if (r == 0) {
+        int layer = i < 0 ? -1 : CACHED_DEPTH == 1 ? depth_slot_of[i] : i;
+        bool inside = false;
+        float z_k = 0.0, d_k = 0.0;
+        sees[j] = layer >= 0 && InFrontOf(i, layer, P, inside, z_k, d_k) && d_k <= 0.0;
+        if (inside && d_k > (1.0 + u_tolerance) * z_k) return 0.0;
+      }
+      if (!sees[j]) continue;
+      vec3 pk = (photos[i].cam_from_world * vec4(P, 1.0)).xyz;
+      vec2 px;
+      if (!PixelIn(i, pk, px)) continue;
+      // Photo texels per view pixel at this depth (as in Weight).
+      float footprint = z / u_intrinsics.x * photos[i].intrinsics.x / pk.z * photos[i].size.z;
+      vec3 v = LogValue(i, px, max(log2(max(footprint, 1e-6)), 0.0));
+      m += v;
+      m2 += v * v;
+      n += 1.0;
+    }
+    if (n < 2.0) {
+      if (r == 0) return 0.0;
+      continue;
+    }
+    m /= n;
+    vec3 var = max(m2 / n - m * m, vec3(0.0));
+    cost += var.r + var.g + var.b;
+  }
+  ok = true;
+  return cost / float(rays_used);
+}
+
+// Depth of a background sample s that no photo passes and whose ray meets no surface of the
+// photos' depth maps (HoleDepth), from a plane sweep along the view's ray C + t d (d: camera z
+// 1) over the photos ranked by RankByPenalty: kSweepSteps depths uniform in inverse depth from
+// kSweepNear scene scales to infinity scored on the ray alone (SweepCost), then every eighth of
+// a step within one step of the best scored over the patch; the depth where the photos agree
+// best (on ties the farthest, as befits what lies beyond the points), 0 when no depth is seen
+// by two photos or the best disagrees more than kSweepMaxCost. What multi-view stereo left
+// without points (untextured walls, far buildings seen through gaps) is drawn at the depth
+// where its photos agree: a plane sweep (Collins 1996) for the view's holes alone.
+float SweepDepth(Sample s, vec3 C, vec3 d) {
+  int ids[kRankPhotos];
+  RankByPenalty(s, ids);
+  if (ids[1] < 0) return 0.0;
+  vec3 dx = mat3(u_world_from_cam) * vec3(kSweepPatch / u_intrinsics.x, 0.0, 0.0);
+  vec3 dy = mat3(u_world_from_cam) * vec3(0.0, kSweepPatch / u_intrinsics.y, 0.0);
+  float step = u_inv_scene_scale / kSweepNear / float(kSweepSteps);
+  float best_cost = 3.0e38;
+  float best_inv = 0.0;
+  for (int k = 0; k < kSweepSteps; ++k) {  // far to near, from half a step short of infinity
+    float inv = step * (float(k) + 0.5);
+    bool ok;
+    float cost = SweepCost(C, d, dx, dy, 1.0 / inv, ids, 1, ok);
+    if (ok && cost < best_cost) {
+      best_cost = cost;
+      best_inv = inv;
+    }
+  }
+  if (best_inv <= 0.0) return 0.0;
+  float center = best_inv;
+  best_cost = 3.0e38;
+  for (int k = -8; k <= 8; ++k) {
+    float inv = center + step * float(k) / 8.0;
+    if (inv <= 0.0) continue;
+    bool ok;
+    float cost = SweepCost(C, d, dx, dy, 1.0 / inv, ids, 5, ok);
+    if (ok && cost < best_cost) {
+      best_cost = cost;
+      best_inv = inv;
+    }
+  }
+  return best_cost <= kSweepMaxCost ? 1.0 / best_inv : 0.0;
+}
+
 #if REFINE == 1
 // Disagreement of the listed photos (weights w, levels of detail uvl.z) at the point of view
 // depth z on the ray C + z d (d: camera z 1): the weighted variance, summed over RGB, of the
@@ -561,11 +672,7 @@ float Disagreement(vec3 C, vec3 d, float z, int ids[KEEP], float w[KEEP], vec3 u
       ok = false;
       return 0.0;
     }
-    vec4 tex = photos[i].tex;
-    vec3 c = FetchPhoto(i, vec3(clamp(px * tex.xy, vec2(0.0), tex.zw), max(uvl[j].z, 0.0)));
-    // ln of the blended quantity (radiance: g(Z) + ln of the exposure), at least ln 1e-4.
-    vec3 v = ENCODING == 1 ? max(ResponseLog(c) + log(photos[i].center.w), vec3(log(1e-4)))
-                           : log(max(c, vec3(1e-4)));
+    vec3 v = LogValue(i, px, max(uvl[j].z, 0.0));
     m += w[j] * v;
     m2 += w[j] * v * v;
     ws += w[j];
@@ -668,8 +775,9 @@ void main() {
       if (dot(n, n) > 1e-8) s.N = normalize(mat3(u_world_from_cam) * n);
     }
     // A background pixel that no photo passes gets a second pass on the surface that the
-    // photos' depth maps hold along its ray (HoleDepth), rather than staying empty: a loop, so
-    // that the blend below is compiled once.
+    // photos' depth maps hold along its ray (HoleDepth), or failing that at the depth where the
+    // photos agree (SweepDepth), rather than staying empty: a loop, so that the blend below is
+    // compiled once.
     for (int pass = 0; pass < 2; ++pass) {
       vec3 sum = vec3(0.0);
       vec3 wsum = vec3(0.0);
@@ -790,8 +898,13 @@ void main() {
       }
       if (color.a > 0.0 || !s.background) break;
       float t = HoleDepth(s, C, ray_world, s.at_infinity ? 0.0 : z);
-      if (t <= 0.0) break;
-      s.background = false;
+      if (t > 0.0) {
+        s.background = false;
+      } else {
+        // Still a background sample: seen by the photos whose depth map holds no point there.
+        t = SweepDepth(s, C, ray_world);
+        if (t <= 0.0) break;
+      }
       s.at_infinity = false;
       PlaceAt(s, C, C + t * ray_world, t);
     }
