@@ -376,12 +376,10 @@ void RankByPenalty(Sample s, out int ids[kRankPhotos]) {
 
 // Where a background sample that no photo passes (each photo's depth map holds a point where
 // the sample projects: a hole in the view's geometry), or without a background a pixel without
-// depth (s: its ray's direction), lies on the photos' surfaces: the view depth at which its ray
-// meets the depth map of the first of the kMarchPhotos photos ranked first by RankByPenalty
-// that holds a continuous surface along the ray; 0 when none does.
-float HoleDepth(Sample s, vec3 C, vec3 d, float t_far) {
-  int ids[kRankPhotos];
-  RankByPenalty(s, ids);
+// depth (ranked as its ray's direction), lies on the photos' surfaces: the view depth at which
+// its ray meets the depth map of the first of the kMarchPhotos photos of ids (RankByPenalty of
+// the sample) that holds a continuous surface along the ray; 0 when none does.
+float HoleDepth(int ids[kRankPhotos], vec3 C, vec3 d, float t_far) {
   float t0 = kMarchNear / u_inv_scene_scale;
   for (int j = 0; j < kMarchPhotos; ++j) {
     float t = ids[j] >= 0 ? MarchDepth(ids[j], C, d, t0, t_far) : 0.0;
@@ -552,6 +550,13 @@ vec3 Blended(int i, vec3 c, out vec3 hat) {
   return c;
 }
 
+// World offsets dx, dy of the view's ray direction (camera z 1) that move it `pixels` view
+// pixels along the view's x and y axes: a patch's diagonal rays are d +- dx +- dy.
+void PatchOffsets(float pixels, out vec3 dx, out vec3 dy) {
+  dx = mat3(u_world_from_cam) * vec3(pixels / u_intrinsics.x, 0.0, 0.0);
+  dy = mat3(u_world_from_cam) * vec3(0.0, pixels / u_intrinsics.y, 0.0);
+}
+
 // ln of photo i's blended quantity (radiance: g(Z) + ln of the exposure) at its camera pixel
 // px and level of detail lod, at least ln 1e-4: a gain between photos adds the same to every
 // pixel.
@@ -610,21 +615,19 @@ float SweepCost(vec3 C, vec3 d, vec3 dx, vec3 dy, float z, int ids[kRankPhotos],
   return cost / float(rays_used);
 }
 
-// Depth of a background sample s that no photo passes and whose ray meets no surface of the
+// Depth of a background sample that no photo passes and whose ray meets no surface of the
 // photos' depth maps (HoleDepth), from a plane sweep along the view's ray C + t d (d: camera z
-// 1) over the photos ranked by RankByPenalty: kSweepSteps depths uniform in inverse depth from
-// kSweepNear scene scales to infinity scored on the ray alone (SweepCost), then every eighth of
-// a step within one step of the best scored over the patch; the depth where the photos agree
-// best (on ties the farthest, as befits what lies beyond the points), 0 when no depth is seen
-// by two photos or the best disagrees more than kSweepMaxCost. What multi-view stereo left
-// without points (untextured walls, far buildings seen through gaps) is drawn at the depth
-// where its photos agree: a plane sweep (Collins 1996) for the view's holes alone.
-float SweepDepth(Sample s, vec3 C, vec3 d) {
-  int ids[kRankPhotos];
-  RankByPenalty(s, ids);
+// 1) over the photos ids (RankByPenalty of the sample): kSweepSteps depths uniform in inverse
+// depth from kSweepNear scene scales to infinity scored on the ray alone (SweepCost), then every
+// eighth of a step within one step of the best scored over the patch; the depth where the
+// photos agree best (on ties the farthest, as befits what lies beyond the points), 0 when no
+// depth is seen by two photos or the best disagrees more than kSweepMaxCost. What multi-view
+// stereo left without points (untextured walls, far buildings seen through gaps) is drawn at
+// the depth where its photos agree: a plane sweep (Collins 1996) for the view's holes alone.
+float SweepDepth(int ids[kRankPhotos], vec3 C, vec3 d) {
   if (ids[1] < 0) return 0.0;
-  vec3 dx = mat3(u_world_from_cam) * vec3(kSweepPatch / u_intrinsics.x, 0.0, 0.0);
-  vec3 dy = mat3(u_world_from_cam) * vec3(0.0, kSweepPatch / u_intrinsics.y, 0.0);
+  vec3 dx, dy;
+  PatchOffsets(kSweepPatch, dx, dy);
   float step = u_inv_scene_scale / kSweepNear / float(kSweepSteps);
   float best_cost = 3.0e38;
   float best_inv = 0.0;
@@ -699,8 +702,8 @@ void RefineDepth(inout Sample s, vec3 C, vec3 d, int ids[KEEP], float w[KEEP],
   int used = 0;
   for (int j = 0; j < KEEP; ++j) used += w[j] > 0.0 ? 1 : 0;
   if (used < 2) return;
-  vec3 dx = mat3(u_world_from_cam) * vec3(kRefinePatch / u_intrinsics.x, 0.0, 0.0);
-  vec3 dy = mat3(u_world_from_cam) * vec3(0.0, kRefinePatch / u_intrinsics.y, 0.0);
+  vec3 dx, dy;
+  PatchOffsets(kRefinePatch, dx, dy);
   float z0 = s.z_new;
   // Ratios of the patch rays' depths to the centre's on the sample's plane (normal s.N).
   float nd = dot(s.N, d);
@@ -761,7 +764,9 @@ void main() {
   if (s.background) {
     s.at_infinity = true;
     PlaceAtInfinity(s, ray_world);
-    z = HoleDepth(s, C, ray_world, 0.0);
+    int ids[kRankPhotos];
+    RankByPenalty(s, ids);
+    z = HoleDepth(ids, C, ray_world, 0.0);
     s.at_infinity = false;
     s.background = z <= 0.0;
   }
@@ -897,12 +902,14 @@ void main() {
         aux = vec4(0.0);
       }
       if (color.a > 0.0 || !s.background) break;
-      float t = HoleDepth(s, C, ray_world, s.at_infinity ? 0.0 : z);
+      int ids[kRankPhotos];
+      RankByPenalty(s, ids);
+      float t = HoleDepth(ids, C, ray_world, s.at_infinity ? 0.0 : z);
       if (t > 0.0) {
         s.background = false;
       } else {
         // Still a background sample: seen by the photos whose depth map holds no point there.
-        t = SweepDepth(s, C, ray_world);
+        t = SweepDepth(ids, C, ray_world);
         if (t <= 0.0) break;
       }
       s.at_infinity = false;
