@@ -156,6 +156,9 @@ const int kSweepSteps = 64;     // SweepDepth: depths, uniform in inverse depth,
 const float kSweepNear = 0.5;   // SweepDepth: nearest view depth searched, in scene scales
 const float kSweepPatch = 2.0;  // SweepDepth: offset of the patch's 4 diagonal rays, view pixels
 const float kSweepMaxCost = 0.02;  // SweepDepth: largest SweepCost accepted (ln units^2)
+const float kEnclosedReach = 1.0 / 8.0;  // EnclosedDepth: search reach, share of the longer side
+const int kEnclosedSteps = 32;  // EnclosedDepth: steps to the reach past the first 8 pixels
+const float kEnclosedPlanar = 0.05;  // EnclosedDepth: spread of the lines' inverse depths
 const float kCubicMaxLod = 0.5;  // CUBIC: coarser levels of detail are sampled trilinearly
 const int kRefineSteps = 1;     // REFINE: depths tested on each side of the depth pass's z
 const float kRefinePatch = 1.0;  // REFINE: offset of the patch's 4 diagonal rays, view pixels
@@ -237,8 +240,8 @@ bool ProjectInto(int i, Sample s, out vec2 px, out vec3 pk) {
 
 // Shadow-map test against photo i's depth map around px, on the 2x2 texels about the
 // projection (a single texel rejects half the pixels along the photo's silhouettes): a point
-// passes when it agrees with one of them, a background sample (which lies beyond every point)
-// when one of them holds no point.
+// passes when it agrees with one of them, a background sample (which lies beyond every point,
+// or on the plane around a hole of the view's depth) when one of them holds no point or agrees.
 float VisibleIn(int i, Sample s, vec2 px, float z_k) {
   int layer = CACHED_DEPTH == 1 ? depth_slot_of[i] : i;
   if (layer < 0) return 0.0;  // no depth map resident: nothing to test against
@@ -255,7 +258,7 @@ float VisibleIn(int i, Sample s, vec2 px, float z_k) {
       if (dk > 0.0 && abs(z_k - dk) <= u_tolerance * dk) ++agree;
     }
   }
-  if (s.background) return any_empty ? 1.0 : 0.0;
+  if (s.background) return any_empty || agree > 0 ? 1.0 : 0.0;
   if (SOFT_VISIBILITY == 1) return float(agree) / 4.0;
   return agree > 0 ? 1.0 : 0.0;
 }
@@ -615,6 +618,48 @@ float SweepCost(vec3 C, vec3 d, vec3 dx, vec3 dy, float z, int ids[kRankPhotos],
   return cost / float(rays_used);
 }
 
+// View depth of the plane that encloses pixel p's hole in the view's depth map: along each of
+// the 4 lines through p (horizontal, vertical, the diagonals), the first depth on both sides
+// within kEnclosedReach of the frame, interpolated linearly in inverse depth (exact across a
+// plane, whose inverse depth is affine in the image); 0 unless at least 3 lines find both sides
+// and their estimates agree within kEnclosedPlanar (a silhouette, where the sides are different
+// surfaces, gives no depth). What multi-view stereo leaves without points inside a surface (an
+// untextured wall or door) is drawn on the surface around it.
+float EnclosedDepth(ivec2 p) {
+  const ivec2 kDirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
+  int reach = int(kEnclosedReach * float(max(u_size.x, u_size.y)));
+  int stride = max(1, reach / kEnclosedSteps);
+  float lo = 3.0e38, hi = 0.0, sum = 0.0;
+  int lines = 0;
+  for (int l = 0; l < 4; ++l) {
+    if (l - lines >= 2) return 0.0;  // 3 lines can no longer be found
+    float inv[2] = float[2](0.0, 0.0);
+    float dist[2] = float[2](0.0, 0.0);
+    for (int side = 0; side < 2; ++side) {
+      if (side == 1 && dist[0] <= 0.0) break;
+      ivec2 dir = side == 0 ? kDirs[l] : -kDirs[l];
+      for (int k = 1; k <= reach; k += k < 8 ? 1 : stride) {
+        ivec2 q = p + k * dir;
+        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, u_size))) break;
+        float zq = texelFetch(u_depth, q, 0).r;
+        if (zq > 0.0) {
+          inv[side] = 1.0 / zq;
+          dist[side] = float(k);
+          break;
+        }
+      }
+    }
+    if (dist[0] <= 0.0 || dist[1] <= 0.0) continue;
+    float e = (inv[0] * dist[1] + inv[1] * dist[0]) / (dist[0] + dist[1]);
+    lo = min(lo, e);
+    hi = max(hi, e);
+    sum += e;
+    ++lines;
+  }
+  if (lines < 3 || hi > (1.0 + kEnclosedPlanar) * lo) return 0.0;
+  return float(lines) / sum;
+}
+
 // Depth of a background sample that no photo passes and whose ray meets no surface of the
 // photos' depth maps (HoleDepth), from a plane sweep along the view's ray C + t d (d: camera z
 // 1) over the photos ids (RankByPenalty of the sample): kSweepSteps depths uniform in inverse
@@ -757,7 +802,13 @@ void main() {
   s.background = !has_point;
   s.at_infinity = s.background && BACKGROUND == 1;
   vec3 ray_world = mat3(u_world_from_cam) * ray;
-  if (s.background && BACKGROUND == 2) z = SphereDepth(C, ray_world);
+  float z_surface = s.background && BACKGROUND == 2 ? SphereDepth(C, ray_world) : 0.0;
+  float z_plane = s.background && BACKGROUND != 0 ? EnclosedDepth(p) : 0.0;
+  if (s.background && BACKGROUND == 2) z = z_surface;
+  if (z_plane > 0.0) {
+    z = z_plane;
+    s.at_infinity = false;
+  }
 #if BACKGROUND == 0
   // Without a background, a pixel without depth can still lie on a surface that the photos'
   // depth maps hold along its ray (a hole of the view's geometry; ranked as a direction).
@@ -779,11 +830,15 @@ void main() {
       vec3 n = has_point ? texelFetch(u_normal, p, 0).xyz : vec3(0.0);
       if (dot(n, n) > 1e-8) s.N = normalize(mat3(u_world_from_cam) * n);
     }
-    // A background pixel that no photo passes gets a second pass on the surface that the
-    // photos' depth maps hold along its ray (HoleDepth), or failing that at the depth where the
-    // photos agree (SweepDepth), rather than staying empty: a loop, so that the blend below is
-    // compiled once.
-    for (int pass = 0; pass < 2; ++pass) {
+    // A pixel without a point is tried first on the plane of the surface around it
+    // (EnclosedDepth), then on the background surface; where no photo passes, on the surface
+    // that the photos' depth maps hold along its ray (HoleDepth), and where none does or no
+    // photo agrees with it, at the depth where the photos agree (SweepDepth), rather than
+    // staying empty: a loop, so that the blend below is compiled once. `fallback` is the next
+    // depth to try: 0 the background surface, 1 the march, 2 the sweep, 3 none.
+    int ids[kRankPhotos];
+    int fallback = z_plane > 0.0 ? 0 : 1;
+    for (int pass = 0; pass < 4; ++pass) {
       vec3 sum = vec3(0.0);
       vec3 wsum = vec3(0.0);
       float geo_sum = 0.0;
@@ -901,17 +956,32 @@ void main() {
       } else {
         aux = vec4(0.0);
       }
-      if (color.a > 0.0 || !s.background) break;
-      int ids[kRankPhotos];
-      RankByPenalty(s, ids);
-      float t = HoleDepth(ids, C, ray_world, s.at_infinity ? 0.0 : z);
-      if (t > 0.0) {
-        s.background = false;
-      } else {
-        // Still a background sample: seen by the photos whose depth map holds no point there.
-        t = SweepDepth(ids, C, ray_world);
-        if (t <= 0.0) break;
+      if (color.a > 0.0 || has_point || fallback == 3 || BACKGROUND == 0) break;
+      if (fallback == 0) {
+        s.at_infinity = BACKGROUND == 1;
+        if (!s.at_infinity && z_surface <= 0.0) break;
+        if (s.at_infinity) {
+          PlaceAtInfinity(s, ray_world);
+        } else {
+          PlaceAt(s, C, C + z_surface * ray_world, z_surface);
+        }
+        fallback = 1;
+        continue;
       }
+      float t = 0.0;
+      if (fallback == 1) {
+        RankByPenalty(s, ids);
+        t = HoleDepth(ids, C, ray_world, s.at_infinity ? 0.0 : z_surface);
+        fallback = 2;
+        s.background = t <= 0.0;
+      }
+      if (t <= 0.0) {
+        // Seen by the photos whose depth map holds no point there.
+        t = SweepDepth(ids, C, ray_world);
+        fallback = 3;
+        s.background = true;
+      }
+      if (t <= 0.0) break;
       s.at_infinity = false;
       PlaceAt(s, C, C + t * ray_world, t);
     }
