@@ -368,8 +368,7 @@ TEST_F(BlendPassTest, HolesThatNoDepthMapHoldsTakeTheSurfaceAroundThem) {
   r.SetActivePhotos(SameSeriesExcept(photo));
   for (Background b : {Background::kSphere, Background::kNone}) {
     const HoleFill f = RenderHole(r, photo, full, b);
-    // With the sphere alone about a third of the hole is covered, at about 23 dB; the plane
-    // sweep along each ray alone gave 27 dB.
+    // The sphere alone covers about a third of the hole, at about 23 dB.
     if (b == Background::kNone) {
       EXPECT_LT(f.filled, 0.1);
     } else {
