@@ -832,13 +832,12 @@ void main() {
     }
     // A pixel without a point is tried first on the plane of the surface around it
     // (EnclosedDepth), then on the background surface; where no photo passes, on the surface
-    // that the photos' depth maps hold along its ray (HoleDepth), and where none does or no
-    // photo agrees with it, at the depth where the photos agree (SweepDepth), rather than
-    // staying empty: a loop, so that the blend below is compiled once. `fallback` is the next
-    // depth to try: 0 the background surface, 1 the march, 2 the sweep, 3 none.
-    int ids[kRankPhotos];
+    // that the photos' depth maps hold along its ray (HoleDepth), and where none does, at the
+    // depth where the photos agree (SweepDepth), rather than staying empty: a loop, so that the
+    // blend below is compiled once. `fallback` is the next depth to try: 0 the background
+    // surface, 1 the march or the sweep, 2 none.
     int fallback = z_plane > 0.0 ? 0 : 1;
-    for (int pass = 0; pass < 4; ++pass) {
+    for (int pass = 0; pass < 3; ++pass) {
       vec3 sum = vec3(0.0);
       vec3 wsum = vec3(0.0);
       float geo_sum = 0.0;
@@ -956,7 +955,8 @@ void main() {
       } else {
         aux = vec4(0.0);
       }
-      if (color.a > 0.0 || has_point || fallback == 3 || BACKGROUND == 0) break;
+      // A point, or a marched sample (on a photo's surface), that no photo passes stays empty.
+      if (color.a > 0.0 || !s.background || fallback == 2) break;
       if (fallback == 0) {
         s.at_infinity = BACKGROUND == 1;
         if (!s.at_infinity && z_surface <= 0.0) break;
@@ -968,20 +968,17 @@ void main() {
         fallback = 1;
         continue;
       }
-      float t = 0.0;
-      if (fallback == 1) {
-        RankByPenalty(s, ids);
-        t = HoleDepth(ids, C, ray_world, s.at_infinity ? 0.0 : z_surface);
-        fallback = 2;
-        s.background = t <= 0.0;
-      }
-      if (t <= 0.0) {
-        // Seen by the photos whose depth map holds no point there.
+      int ids[kRankPhotos];
+      RankByPenalty(s, ids);
+      float t = HoleDepth(ids, C, ray_world, s.at_infinity ? 0.0 : z_surface);
+      fallback = 2;
+      if (t > 0.0) {
+        s.background = false;
+      } else {
+        // Still a background sample: seen by the photos whose depth map holds no point there.
         t = SweepDepth(ids, C, ray_world);
-        fallback = 3;
-        s.background = true;
+        if (t <= 0.0) break;
       }
-      if (t <= 0.0) break;
       s.at_infinity = false;
       PlaceAt(s, C, C + t * ray_world, t);
     }
