@@ -209,10 +209,16 @@ std::string SafeStem(const std::string& name) {
 
 // HDR rendering: `--hdr-mode precomputed|onthefly|direct`; PNG = tone-mapped on the GPU
 // (Reinhard 2002, --exposure/--key/--gamma/--log-average), EXR = linear radiance + alpha.
-int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<View>& views) {
+// `active`: the photos left after --exclude (direct blends them alone).
+int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<View>& views,
+           const std::vector<int>& active) {
   const render::HdrMode mode = *opt.hdr_mode;
-  if (!opt.debug.empty() || !opt.exclude.empty()) {
-    throw UsageError("--debug and --exclude are not available with --hdr-mode");
+  if (!opt.debug.empty()) throw UsageError("--debug is not available with --hdr-mode");
+  // The other modes render series (onthefly) or the HDR set's photos (precomputed), not the
+  // workspace's photos one by one.
+  if (!opt.exclude.empty() && mode != render::HdrMode::kDirect) {
+    throw UsageError("--exclude needs --hdr-mode direct (or ldr), got --hdr-mode " +
+                     render::HdrModeName(mode));
   }
   const std::filesystem::path set_dir =
       opt.hdr_set.empty() ? std::filesystem::path(opt.workspace) / render::kHdrSetFolder
@@ -233,6 +239,7 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   render::HdrRenderer renderer(shaders, scene, mode, response, opt.renderer, set ? &*set : nullptr);
+  if (!opt.exclude.empty()) renderer.renderer().SetActivePhotos(active);
   const bool camera_curve = opt.camera_curve || !opt.as_photo.empty() || opt.exposure_time > 0;
   const double re_exposure = camera_curve ? ReExposure(opt, scene) : 0.0;
   const ResponseCurve& curve = set && response_file.empty() ? set->response : response;
@@ -315,7 +322,7 @@ int Run(const RenderCliOptions& opt) {
     if (!excluded[i]) active.push_back(static_cast<int>(i));
   }
   if (active.empty()) spdlog::warn("every photo is excluded: the output is all invalid");
-  if (opt.hdr_mode) return RunHdr(opt, scene, views);
+  if (opt.hdr_mode) return RunHdr(opt, scene, views, active);
 
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
@@ -410,8 +417,8 @@ CommandRunner SetupRender(CLI::App& sub) {
       sub.add_option("--exposure-time", opt->exposure_time,
                      "PNG through the camera's response at this exposure time in seconds")};
   return [opt, hdr_only] {
-    const bool want_ldr = !opt->debug.empty() || !opt->exclude.empty() ||
-                          opt->renderer.blend.mode != render::BlendMode::kBlend;
+    const bool want_ldr =
+        !opt->debug.empty() || opt->renderer.blend.mode != render::BlendMode::kBlend;
     if (opt->hdr_mode_name == "auto") {
       if (!want_ldr) opt->hdr_mode = AutoHdrMode(opt->workspace);
       bool reinhard = false;

@@ -9,6 +9,8 @@
 #include <string>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "cli_capture.h"
 #include "hdr/re_expose.h"
@@ -102,6 +104,31 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
   const double psnr = cv::PSNR(as_photo, original);
   std::cout << "render --as-photo " << photo << ": " << psnr << " dB against the photo\n";
   EXPECT_GT(psnr, 28.0);
+  // Left out of its own view (`--exclude`: the radiance of the other photos, as `eval
+  // --leave-one-out` renders it), the photo is still reproduced, less closely than with itself.
+  rr = test::RunCommand(render + "--exclude " + photo + " --as-photo " + photo + " --out " +
+                        (out / "loo.png").string() + " 2>&1");
+  ASSERT_EQ(rr.exit_code, 0) << rr.output;
+  const cv::Mat loo = cv::imread((out / "loo.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(loo.channels(), 4);
+  cv::Mat loo_alpha, loo_bgr;
+  cv::extractChannel(loo, loo_alpha, 3);
+  cv::cvtColor(loo, loo_bgr, cv::COLOR_BGRA2BGR);
+  ASSERT_GT(cv::countNonZero(loo_alpha), loo.total() * 9 / 10);
+  cv::Mat error, sq;
+  cv::subtract(loo_bgr, original, error, cv::noArray(), CV_32FC3);
+  cv::multiply(error, error, sq);
+  const cv::Scalar mse = cv::mean(sq, loo_alpha);
+  const double loo_psnr = 10 * std::log10(255.0 * 255.0 * 3 / (mse[0] + mse[1] + mse[2]));
+  std::cout << "render --exclude " << photo << " --as-photo: " << loo_psnr
+            << " dB against the photo\n";
+  EXPECT_GT(loo_psnr, 28.0);
+  EXPECT_LT(loo_psnr, psnr);
+  rr = test::RunCommand(std::string(HDRIBR_EXE) + " render " + ws.string() + " --camera " + photo +
+                        " --exclude " + photo + " --hdr-mode onthefly --out " +
+                        (out / "x.png").string() + " 2>&1");
+  EXPECT_EQ(rr.exit_code, 64) << rr.output;
+  EXPECT_NE(rr.output.find("--exclude needs --hdr-mode direct"), std::string::npos) << rr.output;
   const double time = *scene.photos[13].exposure.time_s;
   rr = test::RunCommand(render + "--exposure-time " + std::to_string(4 * time) + " --out " +
                         (out / "bright.png").string() + " 2>&1");
