@@ -153,6 +153,8 @@ const int kMarchPhotos = 2;  // HoleDepth: photos marched, smallest penalty firs
 const float kMarchNear = 0.01;  // MarchDepth: nearest view depth searched, in scene scales
 const float kMarchTolerance = 0.05;  // MarchDepth: relative depth gap of a continuous surface
 const int kSweepSteps = 64;     // SweepDepth: depths, uniform in inverse depth, before refining
+const int kHollowSteps = 16;    // SweepDepth inside a non-planar surface: depths before refining
+const float kHollowFar = 2.0;   // ... searched to this multiple of the surface's farthest depth
 const float kSweepNear = 0.5;   // SweepDepth: nearest view depth searched, in scene scales
 const float kSweepPatch = 2.0;  // SweepDepth: offset of the patch's 4 diagonal rays, view pixels
 const float kSweepMaxCost = 0.02;  // SweepDepth: largest SweepCost accepted (ln units^2)
@@ -624,8 +626,11 @@ float SweepCost(vec3 C, vec3 d, vec3 dx, vec3 dy, float z, int ids[kRankPhotos],
 // plane, whose inverse depth is affine in the image); 0 unless at least 3 lines find both sides
 // and their estimates agree within kEnclosedPlanar (a silhouette, where the sides are different
 // surfaces, gives no depth). What multi-view stereo leaves without points inside a surface (an
-// untextured wall or door) is drawn on the surface around it.
-float EnclosedDepth(ivec2 p) {
+// untextured wall or door) is drawn on the surface around it. span receives the smallest and
+// largest of the lines' inverse depths when at least 3 lines find both sides (the hole is
+// enclosed, planar or not), else 0.
+float EnclosedDepth(ivec2 p, out vec2 span) {
+  span = vec2(0.0);
   const ivec2 kDirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
   int reach = int(kEnclosedReach * float(max(u_size.x, u_size.y)));
   int stride = max(1, reach / kEnclosedSteps);
@@ -656,28 +661,30 @@ float EnclosedDepth(ivec2 p) {
     sum += e;
     ++lines;
   }
+  if (lines >= 3) span = vec2(lo, hi);
   if (lines < 3 || hi > (1.0 + kEnclosedPlanar) * lo) return 0.0;
   return float(lines) / sum;
 }
 
 // Depth of a background sample that no photo passes and whose ray meets no surface of the
-// photos' depth maps (HoleDepth), from a plane sweep along the view's ray C + t d (d: camera z
-// 1) over the photos ids (RankByPenalty of the sample): kSweepSteps depths uniform in inverse
-// depth from kSweepNear scene scales to infinity scored on the ray alone (SweepCost), then every
+// photos' depth maps (HoleDepth), or that a non-planar surface encloses, from a plane sweep
+// along the view's ray C + t d (d: camera z 1) over the photos ids (RankByPenalty of the
+// sample): `steps` depths uniform in inverse depth over inv_range (view inverse depths,
+// farthest first) scored on the ray alone (SweepCost), then every
 // eighth of a step within one step of the best scored over the patch; the depth where the
 // photos agree best (on ties the farthest, as befits what lies beyond the points), 0 when no
 // depth is seen by two photos or the best disagrees more than kSweepMaxCost. What multi-view
 // stereo left without points (untextured walls, far buildings seen through gaps) is drawn at
 // the depth where its photos agree: a plane sweep (Collins 1996) for the view's holes alone.
-float SweepDepth(int ids[kRankPhotos], vec3 C, vec3 d) {
+float SweepDepth(int ids[kRankPhotos], vec3 C, vec3 d, vec2 inv_range, int steps) {
   if (ids[1] < 0) return 0.0;
   vec3 dx, dy;
   PatchOffsets(kSweepPatch, dx, dy);
-  float step = u_inv_scene_scale / kSweepNear / float(kSweepSteps);
+  float step = (inv_range.y - inv_range.x) / float(steps);
   float best_cost = 3.0e38;
   float best_inv = 0.0;
-  for (int k = 0; k < kSweepSteps; ++k) {  // far to near, from half a step short of infinity
-    float inv = step * (float(k) + 0.5);
+  for (int k = 0; k < steps; ++k) {  // far to near, from half a step short of the far end
+    float inv = inv_range.x + step * (float(k) + 0.5);
     bool ok;
     float cost = SweepCost(C, d, dx, dy, 1.0 / inv, ids, 1, ok);
     if (ok && cost < best_cost) {
@@ -803,7 +810,8 @@ void main() {
   s.at_infinity = s.background && BACKGROUND == 1;
   vec3 ray_world = mat3(u_world_from_cam) * ray;
   float z_surface = s.background && BACKGROUND == 2 ? SphereDepth(C, ray_world) : 0.0;
-  float z_plane = s.background && BACKGROUND != 0 ? EnclosedDepth(p) : 0.0;
+  vec2 span = vec2(0.0);  // inverse depths of the surface around a hole (EnclosedDepth)
+  float z_plane = s.background && BACKGROUND != 0 ? EnclosedDepth(p, span) : 0.0;
   if (s.background && BACKGROUND == 2) z = z_surface;
   if (z_plane > 0.0) {
     z = z_plane;
@@ -831,12 +839,25 @@ void main() {
       if (dot(n, n) > 1e-8) s.N = normalize(mat3(u_world_from_cam) * n);
     }
     // A pixel without a point is tried first on the plane of the surface around it
-    // (EnclosedDepth), then on the background surface; where no photo passes, on the surface
-    // that the photos' depth maps hold along its ray (HoleDepth), and where none does, at the
-    // depth where the photos agree (SweepDepth), rather than staying empty: a loop, so that the
-    // blend below is compiled once. `fallback` is the next depth to try: 0 the background
-    // surface, 1 the march or the sweep, 2 none.
+    // (EnclosedDepth), or, where that surface is not planar, at the depth where the photos
+    // agree between the surface's nearest depth and twice its farthest (the inside of a
+    // hollow, which holds no point: the sphere would show what the photos see past the rim);
+    // then on the background surface; where no photo passes, on the surface that the photos'
+    // depth maps hold along its ray (HoleDepth), and where none does, at the depth where the
+    // photos agree (SweepDepth), rather than staying empty: a loop, so that the blend below is
+    // compiled once. `fallback` is the next depth to try: 0 the background surface, 1 the march
+    // or the sweep, 2 none.
     int fallback = z_plane > 0.0 ? 0 : 1;
+    if (s.background && z_plane <= 0.0 && span.y > 0.0) {
+      int ids0[kRankPhotos];
+      RankByPenalty(s, ids0);
+      float t = SweepDepth(ids0, C, ray_world, vec2(span.x / kHollowFar, span.y), kHollowSteps);
+      if (t > 0.0) {
+        s.at_infinity = false;
+        PlaceAt(s, C, C + t * ray_world, t);
+        fallback = 0;
+      }
+    }
     for (int pass = 0; pass < 3; ++pass) {
       vec3 sum = vec3(0.0);
       vec3 wsum = vec3(0.0);
@@ -976,7 +997,7 @@ void main() {
         s.background = false;
       } else {
         // Still a background sample: seen by the photos whose depth map holds no point there.
-        t = SweepDepth(ids, C, ray_world);
+        t = SweepDepth(ids, C, ray_world, vec2(0.0, u_inv_scene_scale / kSweepNear), kSweepSteps);
         if (t <= 0.0) break;
       }
       s.at_infinity = false;
