@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_capture.h"
+#include "eval/metrics.h"
 #include "hdr/re_expose.h"
 #include "hdr/response_curve.h"
 #include "io/exr.h"
@@ -115,11 +116,7 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
   cv::extractChannel(loo, loo_alpha, 3);
   cv::cvtColor(loo, loo_bgr, cv::COLOR_BGRA2BGR);
   ASSERT_GT(cv::countNonZero(loo_alpha), loo.total() * 9 / 10);
-  cv::Mat error, sq;
-  cv::subtract(loo_bgr, original, error, cv::noArray(), CV_32FC3);
-  cv::multiply(error, error, sq);
-  const cv::Scalar mse = cv::mean(sq, loo_alpha);
-  const double loo_psnr = 10 * std::log10(255.0 * 255.0 * 3 / (mse[0] + mse[1] + mse[2]));
+  const double loo_psnr = CompareImages(original, loo_bgr, loo_alpha).psnr_db;
   std::cout << "render --exclude " << photo << " --as-photo: " << loo_psnr
             << " dB against the photo\n";
   EXPECT_GT(loo_psnr, 28.0);
