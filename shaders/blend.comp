@@ -207,6 +207,20 @@ float SphereDepth(vec3 C, vec3 d) {
   return max((-b + sqrt(disc)) / a, 0.0);
 }
 
+// Places the sample on the background: at infinity (BACKGROUND 1), else on the sphere at the
+// view depth z_surface of the world ray C + t d; false where there is none (z_surface 0).
+bool PlaceOnBackground(inout Sample s, vec3 C, vec3 d, float z_surface) {
+  s.at_infinity = BACKGROUND == 1;
+  if (s.at_infinity) {
+    PlaceAtInfinity(s, d);
+  } else if (z_surface > 0.0) {
+    PlaceAt(s, C, C + z_surface * d, z_surface);
+  } else {
+    return false;
+  }
+  return true;
+}
+
 // Photo i's camera pixel of the point pk of its camera space; false when pk is behind the photo
 // or outside its frame.
 bool PixelIn(int i, vec3 pk, out vec2 px) {
@@ -848,10 +862,14 @@ void main() {
     // compiled once. `fallback` is the next depth to try: 0 the background surface, 1 the march
     // or the sweep, 2 none.
     int fallback = z_plane > 0.0 ? 0 : 1;
+    // The photos ranked for the sample on the background surface, where the march and the
+    // sweeps need them (the same for the hollow's sweep, which runs before the sample moves).
+    int ids[kRankPhotos];
+    bool ranked = false;
     if (s.background && z_plane <= 0.0 && span.y > 0.0) {
-      int ids0[kRankPhotos];
-      RankByPenalty(s, ids0);
-      float t = SweepDepth(ids0, C, ray_world, vec2(span.x / kHollowFar, span.y), kHollowSteps);
+      RankByPenalty(s, ids);
+      ranked = true;
+      float t = SweepDepth(ids, C, ray_world, vec2(span.x / kHollowFar, span.y), kHollowSteps);
       if (t > 0.0) {
         s.at_infinity = false;
         PlaceAt(s, C, C + t * ray_world, t);
@@ -979,18 +997,11 @@ void main() {
       // A point, or a marched sample (on a photo's surface), that no photo passes stays empty.
       if (color.a > 0.0 || !s.background || fallback == 2) break;
       if (fallback == 0) {
-        s.at_infinity = BACKGROUND == 1;
-        if (!s.at_infinity && z_surface <= 0.0) break;
-        if (s.at_infinity) {
-          PlaceAtInfinity(s, ray_world);
-        } else {
-          PlaceAt(s, C, C + z_surface * ray_world, z_surface);
-        }
+        if (!PlaceOnBackground(s, C, ray_world, z_surface)) break;
         fallback = 1;
         continue;
       }
-      int ids[kRankPhotos];
-      RankByPenalty(s, ids);
+      if (!ranked) RankByPenalty(s, ids);
       float t = HoleDepth(ids, C, ray_world, s.at_infinity ? 0.0 : z_surface);
       fallback = 2;
       if (t > 0.0) {
