@@ -848,7 +848,7 @@ void main() {
     if (s.at_infinity) {
       PlaceAtInfinity(s, ray_world);
     } else {
-      PlaceAt(s, C, (u_world_from_cam * vec4(ray * z, 1.0)).xyz, z);
+      PlaceAt(s, C, C + z * ray_world, z);
       vec3 n = has_point ? texelFetch(u_normal, p, 0).xyz : vec3(0.0);
       if (dot(n, n) > 1e-8) s.N = normalize(mat3(u_world_from_cam) * n);
     }
