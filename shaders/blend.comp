@@ -684,12 +684,12 @@ float EnclosedDepth(ivec2 p, out vec2 span) {
 // photos' depth maps (HoleDepth), or that a non-planar surface encloses, from a plane sweep
 // along the view's ray C + t d (d: camera z 1) over the photos ids (RankByPenalty of the
 // sample): `steps` depths uniform in inverse depth over inv_range (view inverse depths,
-// farthest first) scored on the ray alone (SweepCost), then every
-// eighth of a step within one step of the best scored over the patch; the depth where the
-// photos agree best (on ties the farthest, as befits what lies beyond the points), 0 when no
-// depth is seen by two photos or the best disagrees more than kSweepMaxCost. What multi-view
-// stereo left without points (untextured walls, far buildings seen through gaps) is drawn at
-// the depth where its photos agree: a plane sweep (Collins 1996) for the view's holes alone.
+// farthest first) scored on the ray alone (SweepCost), then every eighth of a step within one
+// step of the best scored over the patch; the depth where the photos agree best (on ties the
+// farthest, as befits what lies beyond the points), 0 when no depth is seen by two photos or
+// the best disagrees more than kSweepMaxCost. What multi-view stereo left without points
+// (untextured walls, far buildings seen through gaps) is drawn at the depth where its photos
+// agree: a plane sweep (Collins 1996) for the view's holes alone.
 float SweepDepth(int ids[kRankPhotos], vec3 C, vec3 d, vec2 inv_range, int steps) {
   if (ids[1] < 0) return 0.0;
   vec3 dx, dy;
