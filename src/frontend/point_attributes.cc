@@ -1,14 +1,16 @@
 #include "frontend/point_attributes.h"
 
 #include <pcl/features/normal_3d_omp.h>
-#include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <thread>
+
+#include "frontend/parallel.h"
 
 namespace hdribr {
 
@@ -51,15 +53,55 @@ Eigen::Vector3f OrientedNormal(Eigen::Vector3f nrm, const Eigen::Vector3f& view)
 }  // namespace
 
 size_t RemoveOutliers(PointCloud& cloud, std::vector<Eigen::Vector3f>& view_dirs,
+                      const std::vector<Eigen::Vector3d>& centers,
                       const AttributeOptions& options) {
-  if (cloud.size() <= static_cast<size_t>(options.outlier_neighbors)) return 0;
-  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
-  sor.setInputCloud(ToPcl(cloud));
-  sor.setMeanK(options.outlier_neighbors);
-  sor.setStddevMulThresh(options.outlier_stddev);
+  const size_t n = cloud.size();
+  if (n <= static_cast<size_t>(options.outlier_neighbors)) return 0;
+  const auto pc = ToPcl(cloud);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(pc);
+  // Per point: the mean distance to its neighbours, and that over its distance to the nearest
+  // camera.
+  std::vector<double> spread(n, 0.0), ratio(n, 0.0);
+  constexpr int kBlock = 4096;
+  const int blocks = static_cast<int>((n + kBlock - 1) / kBlock);
+  ParallelFor(blocks, ThreadCount(options.threads), [&](int b) {
+    pcl::Indices idx;
+    std::vector<float> d2;
+    const size_t end = std::min(n, size_t(b + 1) * kBlock);
+    for (size_t i = size_t(b) * kBlock; i < end; ++i) {
+      const int found = tree.nearestKSearch((*pc)[i], options.outlier_neighbors + 1, idx, d2);
+      double sum = 0;
+      int count = 0;
+      for (int j = 0; j < found; ++j) {
+        if (static_cast<size_t>(idx[j]) == i) continue;  // the point itself
+        sum += std::sqrt(d2[j]);
+        ++count;
+      }
+      spread[i] = count ? sum / count : 0.0;
+      double nearest2 = std::numeric_limits<double>::infinity();
+      const Eigen::Vector3d p = cloud.positions[i].cast<double>();
+      for (const Eigen::Vector3d& c : centers) nearest2 = std::min(nearest2, (c - p).squaredNorm());
+      ratio[i] = centers.empty() ? 0.0 : spread[i] / std::max(std::sqrt(nearest2), 1e-9);
+    }
+  });
+  // Mean + outlier_stddev standard deviations (sample) of v.
+  const auto limit = [&](const std::vector<double>& v) {
+    double mean = 0, sq = 0;
+    for (double x : v) mean += x;
+    mean /= n;
+    for (double x : v) sq += (x - mean) * (x - mean);
+    return mean + options.outlier_stddev * std::sqrt(sq / (n - 1));
+  };
+  const double spread_limit = limit(spread), ratio_limit = limit(ratio);
   pcl::Indices keep;
-  sor.filter(keep);
-  const size_t removed = cloud.size() - keep.size();
+  keep.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (spread[i] <= spread_limit || (!centers.empty() && ratio[i] <= ratio_limit)) {
+      keep.push_back(static_cast<pcl::index_t>(i));
+    }
+  }
+  const size_t removed = n - keep.size();
   KeepIndices(cloud.positions, keep);
   KeepIndices(cloud.normals, keep);
   KeepIndices(cloud.colors, keep);

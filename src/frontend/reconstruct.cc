@@ -28,6 +28,14 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+// The registered photos' camera centres (world frame).
+std::vector<Eigen::Vector3d> CameraCenters(const ColmapModel& model) {
+  std::vector<Eigen::Vector3d> centers;
+  for (const auto& [id, im] : model.images)
+    centers.push_back(im.cam_from_world.Inverse().translation);
+  return centers;
+}
+
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
@@ -340,10 +348,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
         n, "photos");
     dense.cloud = ReadPly(fused);
     dense.cloud.normals.clear();
-    std::vector<Eigen::Vector3d> centers;
-    for (const auto& [id, im] : model.images)
-      centers.push_back(im.cam_from_world.Inverse().translation);
-    dense.view_dirs = ViewDirsFromCameras(dense.cloud, centers);
+    dense.view_dirs = ViewDirsFromCameras(dense.cloud, CameraCenters(model));
   } else if (mode == "none") {
     dense = SparseCloud(model);
   } else {
@@ -370,7 +375,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
   t0 = Clock::now();
   AttributeOptions ao = ctx.opt.attribute_options;
   ao.threads = ctx.threads;
-  const size_t removed = RemoveOutliers(dense.cloud, dense.view_dirs, ao);
+  const size_t removed = RemoveOutliers(dense.cloud, dense.view_dirs, CameraCenters(model), ao);
   EstimateNormals(dense.cloud, dense.view_dirs, ao);
   EstimateRadii(dense.cloud, ao);
   report.times.push_back({"dense.attributes", Seconds(t0)});
@@ -423,6 +428,7 @@ std::string StageSettings(const Context& ctx, const std::string& stage,
     const AttributeOptions& a = o.attribute_options;
     add("outlier-neighbors", a.outlier_neighbors);
     add("outlier-stddev", a.outlier_stddev);
+    add("cleanup-version", kCleanupVersion);
     add("normal-neighbors", a.normal_neighbors);
     add("radius-neighbors", a.radius_neighbors);
     const DenseOptions& d = o.dense_options;

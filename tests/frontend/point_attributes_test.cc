@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 namespace hdribr {
@@ -61,7 +62,7 @@ TEST(PointAttributes, RemovesIsolatedOutliersKeepingAttributesInStep) {
   c.colors.push_back({255, 0, 0});
   std::vector<Eigen::Vector3f> view(c.size(), Eigen::Vector3f::UnitZ());
   view.back() = -Eigen::Vector3f::UnitZ();
-  const size_t removed = RemoveOutliers(c, view, {});
+  const size_t removed = RemoveOutliers(c, view, {}, {});
   EXPECT_GE(removed, 1u);
   EXPECT_LT(removed, 20u);
   ASSERT_EQ(c.colors.size(), c.size());
@@ -71,6 +72,40 @@ TEST(PointAttributes, RemovesIsolatedOutliersKeepingAttributesInStep) {
     EXPECT_EQ(c.colors[i][0], 10);
     EXPECT_GT(view[i].z(), 0.f);
   }
+}
+
+// A depth map samples a far surface more sparsely: a 100x100 grid at distance 1 from the
+// camera with spacing 0.002 and a 20x20 grid at distance 8 with spacing 0.016 (the same angular
+// spacing; a far facade is a small part of a cloud). By plain distances the far grid goes; with
+// the distance to the camera it stays (but for its rim, whose neighbours lie on one side: the
+// exact grids' spread is tiny), and a point off both surfaces still goes.
+TEST(PointAttributes, OutlierRemovalKeepsFarSurfacesSampledSparsely) {
+  PointCloud c;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j) c.positions.push_back({i * 0.002f, j * 0.002f, 1.f});
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) c.positions.push_back({i * 0.016f - 0.06f, j * 0.016f, 8.f});
+  const std::vector<Eigen::Vector3d> centers = {Eigen::Vector3d(0.05, 0.05, 0.0)};
+  const auto far_points = [](const PointCloud& cloud) {
+    return std::count_if(cloud.positions.begin(), cloud.positions.end(),
+                         [](const Eigen::Vector3f& p) { return p.z() == 8.f; });
+  };
+  std::vector<Eigen::Vector3f> none;
+
+  PointCloud plain = c;
+  EXPECT_GE(RemoveOutliers(plain, none, {}, {}), 400u);
+  EXPECT_EQ(far_points(plain), 0);
+
+  PointCloud scaled = c;
+  const size_t removed = RemoveOutliers(scaled, none, centers, {});
+  EXPECT_GE(far_points(scaled), 18 * 18);
+  EXPECT_LT(removed, 200u);
+
+  PointCloud stray = c;
+  stray.positions.push_back({0.5f, 0.5f, 4.f});
+  RemoveOutliers(stray, none, centers, {});
+  EXPECT_GE(far_points(stray), 18 * 18);
+  for (const auto& p : stray.positions) EXPECT_NE(p.z(), 4.f);
 }
 
 }  // namespace
