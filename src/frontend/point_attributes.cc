@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include "frontend/parallel.h"
 
@@ -27,9 +26,34 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr ToPcl(const PointCloud& cloud) {
   return pc;
 }
 
-int Threads(int requested) {
-  return requested > 0 ? requested
-                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+// Per point: the mean distance to its k nearest neighbours (itself excluded), 0 without any;
+// the searches on `threads` threads.
+std::vector<double> MeanNeighbourDistances(const PointCloud& cloud, int k, int threads) {
+  const size_t n = cloud.size();
+  std::vector<double> mean(n, 0.0);
+  const auto pc = ToPcl(cloud);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(pc);
+  const int search = std::min<int>(k + 1, static_cast<int>(n));
+  constexpr int kBlock = 4096;
+  const int blocks = static_cast<int>((n + kBlock - 1) / kBlock);
+  ParallelFor(blocks, ThreadCount(threads), [&](int b) {
+    pcl::Indices idx;
+    std::vector<float> d2;
+    const size_t end = std::min(n, size_t(b + 1) * kBlock);
+    for (size_t i = size_t(b) * kBlock; i < end; ++i) {
+      const int found = tree.nearestKSearch((*pc)[i], search, idx, d2);
+      double sum = 0;
+      int count = 0;
+      for (int j = 0; j < found; ++j) {
+        if (static_cast<size_t>(idx[j]) == i) continue;  // the point itself
+        sum += std::sqrt(d2[j]);
+        ++count;
+      }
+      mean[i] = count ? sum / count : 0.0;
+    }
+  });
+  return mean;
 }
 
 template <typename T>
@@ -57,34 +81,17 @@ size_t RemoveOutliers(PointCloud& cloud, std::vector<Eigen::Vector3f>& view_dirs
                       const AttributeOptions& options) {
   const size_t n = cloud.size();
   if (n <= static_cast<size_t>(options.outlier_neighbors)) return 0;
-  const auto pc = ToPcl(cloud);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(pc);
   // Per point: the mean distance to its neighbours, and that over its distance to the nearest
   // camera.
-  std::vector<double> spread(n, 0.0), ratio(n, 0.0);
-  constexpr int kBlock = 4096;
-  const int blocks = static_cast<int>((n + kBlock - 1) / kBlock);
-  ParallelFor(blocks, ThreadCount(options.threads), [&](int b) {
-    pcl::Indices idx;
-    std::vector<float> d2;
-    const size_t end = std::min(n, size_t(b + 1) * kBlock);
-    for (size_t i = size_t(b) * kBlock; i < end; ++i) {
-      const int found = tree.nearestKSearch((*pc)[i], options.outlier_neighbors + 1, idx, d2);
-      double sum = 0;
-      int count = 0;
-      for (int j = 0; j < found; ++j) {
-        if (static_cast<size_t>(idx[j]) == i) continue;  // the point itself
-        sum += std::sqrt(d2[j]);
-        ++count;
-      }
-      spread[i] = count ? sum / count : 0.0;
-      double nearest2 = std::numeric_limits<double>::infinity();
-      const Eigen::Vector3d p = cloud.positions[i].cast<double>();
-      for (const Eigen::Vector3d& c : centers) nearest2 = std::min(nearest2, (c - p).squaredNorm());
-      ratio[i] = centers.empty() ? 0.0 : spread[i] / std::max(std::sqrt(nearest2), 1e-9);
-    }
-  });
+  const std::vector<double> spread =
+      MeanNeighbourDistances(cloud, options.outlier_neighbors, options.threads);
+  std::vector<double> ratio(n, 0.0);
+  for (size_t i = 0; i < n && !centers.empty(); ++i) {
+    double nearest2 = std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d p = cloud.positions[i].cast<double>();
+    for (const Eigen::Vector3d& c : centers) nearest2 = std::min(nearest2, (c - p).squaredNorm());
+    ratio[i] = spread[i] / std::max(std::sqrt(nearest2), 1e-9);
+  }
   // Mean + outlier_stddev standard deviations (sample) of v.
   const auto limit = [&](const std::vector<double>& v) {
     double mean = 0, sq = 0;
@@ -120,7 +127,7 @@ void EstimateNormals(PointCloud& cloud, const std::vector<Eigen::Vector3f>& view
     }
     return;
   }
-  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(Threads(options.threads));
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(ThreadCount(options.threads));
   ne.setInputCloud(ToPcl(cloud));
   pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
   ne.setSearchMethod(tree);
@@ -142,23 +149,9 @@ void EstimateRadii(PointCloud& cloud, const AttributeOptions& options) {
     if (!cloud.empty()) cloud.radii[0] = 1.f;
     return;
   }
-  const auto pc = ToPcl(cloud);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(pc);
-  const int k = std::min<int>(options.radius_neighbors + 1, static_cast<int>(cloud.size()));
-  pcl::Indices idx;
-  std::vector<float> d2;
-  for (size_t i = 0; i < cloud.size(); ++i) {
-    const int found = tree.nearestKSearch((*pc)[i], k, idx, d2);
-    double sum = 0;
-    int count = 0;
-    for (int j = 0; j < found; ++j) {
-      if (static_cast<size_t>(idx[j]) == i) continue;  // the point itself
-      sum += std::sqrt(d2[j]);
-      ++count;
-    }
-    cloud.radii[i] = count ? static_cast<float>(sum / count) : 0.f;
-  }
+  const std::vector<double> mean =
+      MeanNeighbourDistances(cloud, options.radius_neighbors, options.threads);
+  for (size_t i = 0; i < cloud.size(); ++i) cloud.radii[i] = static_cast<float>(mean[i]);
   std::vector<float> sorted = cloud.radii;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   float median = sorted[sorted.size() / 2];
