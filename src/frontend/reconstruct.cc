@@ -321,6 +321,7 @@ DenseResult SparseCloud(const ColmapModel& model) {
 
 void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) {
   const ColmapModel model = ReadColmapModel(ctx.opt.workspace / "sparse");
+  const std::vector<Eigen::Vector3d> centers = CameraCenters(model);
   const std::string mode = DenseMode(ctx);
   DenseResult dense;
   auto t0 = Clock::now();
@@ -348,7 +349,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
         n, "photos");
     dense.cloud = ReadPly(fused);
     dense.cloud.normals.clear();
-    dense.view_dirs = ViewDirsFromCameras(dense.cloud, CameraCenters(model));
+    dense.view_dirs = ViewDirsFromCameras(dense.cloud, centers);
   } else if (mode == "none") {
     dense = SparseCloud(model);
   } else {
@@ -375,7 +376,7 @@ void RunDense(Context& ctx, StageProgress& progress, ReconstructReport& report) 
   t0 = Clock::now();
   AttributeOptions ao = ctx.opt.attribute_options;
   ao.threads = ctx.threads;
-  const size_t removed = RemoveOutliers(dense.cloud, dense.view_dirs, CameraCenters(model), ao);
+  const size_t removed = RemoveOutliers(dense.cloud, dense.view_dirs, centers, ao);
   EstimateNormals(dense.cloud, dense.view_dirs, ao);
   EstimateRadii(dense.cloud, ao);
   report.times.push_back({"dense.attributes", Seconds(t0)});
