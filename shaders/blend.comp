@@ -5,10 +5,10 @@
 // difference of the distances |C - P| and |C_k - P| in units of the scene scale. A photo sees
 // P when P projects inside it, passes the shadow-map test against the photo's own depth map
 // and N_p . V_k > lambda (sec. 4, "Occlusion and visibility"). Beyond the paper, pixels
-// without depth can show a background (BACKGROUND): a sphere around the scene or a surface
-// at infinity, seen by the photos whose depth maps hold no point there either, or the surface
-// that the photos' depth maps hold along the pixel's ray (HoleDepth), or the depth along it
-// where the photos agree (SweepDepth). Docs: docs/algorithms.md.
+// without depth can show a background (BACKGROUND): the scene's dominant plane, a sphere
+// around the scene or a surface at infinity, seen by the photos whose depth maps hold no point
+// there either, or the surface that the photos' depth maps hold along the pixel's ray
+// (HoleDepth), or the depth along it where the photos agree (SweepDepth). Docs: docs/algorithms.md.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // One per scene photo (std430, matches PhotoGpu in blend_pass.cc).
@@ -53,6 +53,12 @@ layout(location = 6) uniform float u_tolerance;
 layout(location = 7) uniform float u_inv_scene_scale;
 layout(location = 8) uniform int u_debug_photo;
 layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (world), radius
+// Background plane (BACKGROUND 3, world): n . X + offset = 0 with the cameras on the side n
+// points to; its in-plane axes u, v; its extent (u min, u max, v min, v max).
+layout(location = 21) uniform vec4 u_plane;
+layout(location = 22) uniform vec3 u_plane_u;
+layout(location = 23) uniform vec3 u_plane_v;
+layout(location = 24) uniform vec4 u_plane_extent;
 
 // Modes, fixed per program (BlendPass::ProgramFor): llvmpipe pays for both sides of a branch on
 // a uniform, so they are constants here (docs/algorithms.md, "Modes compiled per program").
@@ -68,10 +74,10 @@ layout(location = 13) uniform vec4 u_sphere;  // background sphere: centre (worl
 #ifndef SUM_ALL
 #define SUM_ALL 0  // 1: paper eq. 5 summed over every photo (no list of best photos)
 #endif
-// Pixels without depth: 0 left empty, 1 at infinity, 2 on the sphere u_sphere
-// (render::Background).
+// Pixels without depth: 0 left empty, 1 at infinity, 2 on the sphere u_sphere, 3 on the plane
+// u_plane within its extent, else on the sphere (render::Background).
 #ifndef BACKGROUND
-#define BACKGROUND 2
+#define BACKGROUND 3
 #endif
 // 1: a point's visibility in a photo is the share of the 2x2 depth texels about its projection
 // that agree with it (soft at the photo's depth discontinuities); 0: visible when one agrees.
@@ -207,7 +213,28 @@ float SphereDepth(vec3 C, vec3 d) {
   return max((-b + sqrt(disc)) / a, 0.0);
 }
 
-// Places the sample on the background: at infinity (BACKGROUND 1), else on the sphere at the
+// Camera z of the background surface along the world ray C + u d (d with camera z 1): the plane
+// (BACKGROUND 3) where the ray meets it inside its extent before it leaves the sphere, else the
+// sphere; 0 when there is none.
+float SurfaceDepth(vec3 C, vec3 d) {
+  float t = SphereDepth(C, d);
+#if BACKGROUND == 3
+  // The cameras lie on the side the normal points to: only a ray going against it meets the
+  // plane's face.
+  float along = dot(u_plane.xyz, d);
+  if (along < 0.0) {
+    float t_plane = -(dot(u_plane.xyz, C) + u_plane.w) / along;
+    vec3 X = C + t_plane * d;
+    vec2 uv = vec2(dot(u_plane_u, X), dot(u_plane_v, X));
+    bool inside = all(greaterThanEqual(uv, u_plane_extent.xz)) &&
+                  all(lessThanEqual(uv, u_plane_extent.yw));
+    if (t_plane > 0.0 && t_plane < t && inside) t = t_plane;
+  }
+#endif
+  return t;
+}
+
+// Places the sample on the background: at infinity (BACKGROUND 1), else on the surface at the
 // view depth z_surface of the world ray C + t d; false where there is none (z_surface 0).
 bool PlaceOnBackground(inout Sample s, vec3 C, vec3 d, float z_surface) {
   s.at_infinity = BACKGROUND == 1;
@@ -823,10 +850,10 @@ void main() {
   s.background = !has_point;
   s.at_infinity = s.background && BACKGROUND == 1;
   vec3 ray_world = mat3(u_world_from_cam) * ray;
-  float z_surface = s.background && BACKGROUND == 2 ? SphereDepth(C, ray_world) : 0.0;
+  float z_surface = s.background && BACKGROUND >= 2 ? SurfaceDepth(C, ray_world) : 0.0;
   vec2 span = vec2(0.0);  // inverse depths of the surface around a hole (EnclosedDepth)
   float z_plane = s.background && BACKGROUND != 0 ? EnclosedDepth(p, span) : 0.0;
-  if (s.background && BACKGROUND == 2) z = z_surface;
+  if (s.background && BACKGROUND >= 2) z = z_surface;
   if (z_plane > 0.0) {
     z = z_plane;
     s.at_infinity = false;

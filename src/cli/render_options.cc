@@ -86,8 +86,9 @@ CLI::Option* AddRefineDepthOption(CLI::App& app, float& refine_depth) {
 CLI::Option* AddBackgroundOption(CLI::App& app, render::Background& background) {
   return app
       .add_option("--background", background,
-                  "Where no point is: infinity (the photos' pixels in the ray's direction) or "
-                  "none (left empty)")
+                  "Where no point is: plane (the scene's dominant plane where it holds points, "
+                  "else the sphere), sphere (around the points and the cameras), infinity (the "
+                  "photos' pixels in the ray's direction) or none (left empty)")
       ->transform(
           NamesTo(NameMap<render::Background>(render::kAllBackgrounds, render::BackgroundName)))
       ->default_str(render::BackgroundName(background));

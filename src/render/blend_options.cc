@@ -24,6 +24,8 @@ std::string BackgroundName(Background background) {
       return "infinity";
     case Background::kSphere:
       return "sphere";
+    case Background::kPlane:
+      return "plane";
     case Background::kNone:
       break;
   }
@@ -34,7 +36,7 @@ Background ParseBackground(const std::string& name) {
   for (Background b : kAllBackgrounds) {
     if (BackgroundName(b) == name) return b;
   }
-  throw UsageError("unknown background '" + name + "' (none, infinity, sphere)");
+  throw UsageError("unknown background '" + name + "' (none, infinity, sphere, plane)");
 }
 
 std::string PhotoSamplingName(PhotoSampling sampling) {

@@ -45,13 +45,15 @@ enum class Background {
   kNone = 0,      // nothing: only the photos' surfaces along the ray, else the pixel stays invalid
   kInfinity = 1,  // a surface at infinity: each photo's pixel in the ray's direction
   kSphere = 2,    // a sphere around the points and the cameras (BackgroundSphere)
+  kPlane = 3,     // the scene's dominant plane where it holds points (FindDominantPlane), else
+                  // the sphere
 };
 
 // Every Background value, in declaration order.
 inline constexpr Background kAllBackgrounds[] = {Background::kNone, Background::kInfinity,
-                                                 Background::kSphere};
+                                                 Background::kSphere, Background::kPlane};
 
-// "none", "infinity", "sphere"; ParseBackground throws UsageError for anything else.
+// "none", "infinity", "sphere", "plane"; ParseBackground throws UsageError for anything else.
 std::string BackgroundName(Background background);
 Background ParseBackground(const std::string& name);
 
@@ -90,7 +92,8 @@ struct BlendOptions {
   float lambda = 1e-4f;  // a photo counts when N_p . V_k > lambda (paper eq. 3)
   float occlusion_tolerance = 0.01f;  // |z_k(P) - depth_k| <= tolerance * depth_k passes
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
-  Background background = Background::kSphere;
+  // The plane by default (closer to held-out photos than the sphere alone, docs/benchmarks.md).
+  Background background = Background::kPlane;
   Visibility visibility = Visibility::kHard;
   // Filtered blending (Eisemann et al. 2007): relative depth uncertainty along the view's ray
   // over which each blended photo is low-passed; 0 = off.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/dominant_plane.h"
 #include "core/error.h"
 #include "core/photo_candidates.h"
 
@@ -169,6 +170,15 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuin
   inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
   const Eigen::Vector4d sphere = BackgroundSphere(scene);
   for (int k = 0; k < 4; ++k) sphere_[k] = static_cast<float>(sphere[k]);
+  // Without a dominant plane the zero normal never meets a ray: the sphere alone.
+  const DominantPlane plane = FindDominantPlane(scene);
+  for (int k = 0; k < 3; ++k) {
+    plane_[k] = plane.valid ? static_cast<float>(plane.normal[k]) : 0.0f;
+    plane_u_[k] = static_cast<float>(plane.axis_u[k]);
+    plane_v_[k] = static_cast<float>(plane.axis_v[k]);
+  }
+  plane_[3] = static_cast<float>(plane.offset);
+  for (int k = 0; k < 4; ++k) plane_extent_[k] = static_cast<float>(plane.extent[k]);
   std::vector<int> all(scene.photos.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   SetActive(all);
@@ -224,6 +234,12 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glProgramUniform1f(p, 7, inv_scene_scale_);
   glProgramUniform1i(p, 8, options.debug_photo);
   glProgramUniform4fv(p, 13, 1, sphere_);
+  if (options.background == Background::kPlane) {
+    glProgramUniform4fv(p, 21, 1, plane_);
+    glProgramUniform3fv(p, 22, 1, plane_u_);
+    glProgramUniform3fv(p, 23, 1, plane_v_);
+    glProgramUniform4fv(p, 24, 1, plane_extent_);
+  }
   if (options.sampling == PhotoSampling::kCubic) glProgramUniform2fv(p, 19, 1, photo_texels_);
   if (Filtered(options)) glProgramUniform1f(p, 17, options.filter);
   if (RejectsOutliers(options, sum_all, float_photos_))

@@ -68,6 +68,11 @@ class BlendPass {
   int active_count_ = 0;
   float inv_scene_scale_ = 1.0f;
   float sphere_[4] = {0, 0, 0, 1};  // BackgroundSphere of the scene
+  // FindDominantPlane of the scene: n and offset, axes u and v, extent (zero when invalid).
+  float plane_[4] = {0, 0, 0, 0};
+  float plane_u_[3] = {0, 0, 0};
+  float plane_v_[3] = {0, 0, 0};
+  float plane_extent_[4] = {0, 0, 0, 0};
 };
 
 }  // namespace hdribr::render

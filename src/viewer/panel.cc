@@ -110,7 +110,7 @@ void DrawSettings(ViewState& state, const Scene& scene) {
   ImGui::SliderFloat("lambda", &s.lambda, 0.0f, 0.5f, "%.4f");
   ImGui::SliderFloat("occlusion tol.", &s.tolerance, 0.001f, 0.1f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
-  EnumCombo("background", s.background, "none\0infinity\0sphere\0");
+  EnumCombo("background", s.background, "none\0infinity\0sphere\0plane\0");
   EnumCombo("sampling", s.sampling, "linear\0cubic\0");
   ImGui::SliderFloat("outlier scale (0 = off)", &s.outlier_scale, 0.0f, 0.5f, "%.3f");
   ImGui::SliderFloat("refine depth (0 = off)", &s.refine_depth, 0.0f, render::kMaxRefineDepth,

@@ -51,7 +51,7 @@ struct Settings {
   int k_best = 0;
   float lambda = 1e-4f;
   float tolerance = 0.01f;  // occlusion tolerance, relative depth
-  render::Background background = render::Background::kSphere;
+  render::Background background = render::BlendOptions{}.background;
   render::PhotoSampling sampling = render::BlendOptions{}.sampling;
   float outlier_scale = render::BlendOptions{}.outlier_scale;  // 0 = off
   float refine_depth = render::BlendOptions{}.refine_depth;    // 0 = off

@@ -282,7 +282,7 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
   gl::HeadlessContext context;
   const gl::ShaderLibrary shaders;
   Renderer r(shaders, scene_);
-  EXPECT_EQ(r.blend_options().background, Background::kSphere);  // the default
+  EXPECT_EQ(r.blend_options().background, Background::kPlane);  // the default
   const int photo = 1;
   r.SetActivePhotos(SameSeriesExcept(photo));
   std::map<Background, RenderImages> im;
@@ -299,10 +299,11 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
   EXPECT_LT(cv::countNonZero(none.valid & no_point), cv::countNonZero(no_point) / 20);
   cv::Mat ref;
   ReadImage(scene_.photos[static_cast<size_t>(photo)].image_path).convertTo(ref, CV_32FC3);
-  // Infinity fills the sky; the sphere also the floor beyond the points, which lies inside it.
-  const std::map<Background, double> min_share = {{Background::kInfinity, 0.25},
-                                                  {Background::kSphere, 0.85}};
-  for (Background b : {Background::kInfinity, Background::kSphere}) {
+  // Infinity fills the sky; the sphere also the floor beyond the points, which lies inside it;
+  // the plane puts that floor at its depth.
+  const std::map<Background, double> min_share = {
+      {Background::kInfinity, 0.25}, {Background::kSphere, 0.85}, {Background::kPlane, 0.85}};
+  for (Background b : {Background::kInfinity, Background::kSphere, Background::kPlane}) {
     const RenderImages& bg = im[b];
     EXPECT_EQ(cv::norm(bg.color, none.color, cv::NORM_INF, points), 0.0) << BackgroundName(b);
     EXPECT_EQ(cv::countNonZero((bg.valid != none.valid) & points), 0);
@@ -317,6 +318,12 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
     EXPECT_GT(share, min_share.at(b)) << BackgroundName(b);
     EXPECT_GT(psnr, 24.0) << BackgroundName(b);
   }
+  // The plane (the scene's floor or back wall) takes some of the sphere's pixels, at its depth.
+  const cv::Mat moved =
+      (cv::abs(im[Background::kPlane].color - im[Background::kSphere].color) > 1.0 / 255.0);
+  std::vector<cv::Mat> channels;
+  cv::split(moved, channels);
+  EXPECT_GT(cv::countNonZero((channels[0] | channels[1] | channels[2]) & no_point), 0);
   EXPECT_EQ(ParseBackground("infinity"), Background::kInfinity);
   EXPECT_THROW(ParseBackground("box"), UsageError);
   // The sphere lies beyond 99 % of the points and encloses every camera.
