@@ -23,6 +23,9 @@ double Percentile(std::vector<double> values, double f) {
 
 }  // namespace
 
+// RANSAC is written here rather than taken from PCL's SACSegmentation: a hypothesis must pass
+// the cameras' side before it is scored (a wall that the cameras circle holds many points but
+// is no background), and core links Eigen alone.
 DominantPlane FindDominantPlane(const Scene& scene) {
   DominantPlane plane;
   const auto& positions = scene.points.positions;
