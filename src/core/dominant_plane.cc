@@ -104,7 +104,6 @@ DominantPlane FindDominantPlane(const Scene& scene) {
   const double du = kDominantPlaneMargin * (u1 - u0), dv = kDominantPlaneMargin * (v1 - v0);
   plane.extent = {u0 - du, u1 + du, v0 - dv, v1 + dv};
   plane.inlier_share = static_cast<double>(inliers_of(n, offset)) / sample.size();
-  plane.valid = plane.inlier_share >= kDominantPlaneMinShare;
   return plane;
 }
 

@@ -8,18 +8,6 @@
 
 namespace hdribr {
 
-// A plane n . X + offset = 0 (world frame, unit n, the cameras on its positive side), bounded to
-// the rectangle of its points along its two in-plane axes, widened by kDominantPlaneMargin.
-struct DominantPlane {
-  bool valid = false;
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  double offset = 0.0;
-  Eigen::Vector3d axis_u = Eigen::Vector3d::Zero();  // in-plane principal axes of the inliers
-  Eigen::Vector3d axis_v = Eigen::Vector3d::Zero();
-  Eigen::Vector4d extent = Eigen::Vector4d::Zero();  // u min, u max, v min, v max (world units)
-  double inlier_share = 0.0;  // of the points within kDominantPlaneTolerance of the plane
-};
-
 // Inlier distance of the plane fit, in scene scales.
 inline constexpr double kDominantPlaneTolerance = 0.01;
 // Widening of the extent on each side, as a share of its length: the dense stage's points thin
@@ -27,6 +15,20 @@ inline constexpr double kDominantPlaneTolerance = 0.01;
 inline constexpr double kDominantPlaneMargin = 0.1;
 // Least share of the points on the plane for it to count as the scene's dominant plane.
 inline constexpr double kDominantPlaneMinShare = 0.05;
+
+// A plane n . X + offset = 0 (world frame, unit n, the cameras on its positive side), bounded to
+// the rectangle of its points along its two in-plane axes, widened by kDominantPlaneMargin.
+struct DominantPlane {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double offset = 0.0;
+  Eigen::Vector3d axis_u = Eigen::Vector3d::Zero();  // in-plane principal axes of the inliers
+  Eigen::Vector3d axis_v = Eigen::Vector3d::Zero();
+  Eigen::Vector4d extent = Eigen::Vector4d::Zero();  // u min, u max, v min, v max (world units)
+  double inlier_share = 0.0;  // of the points within kDominantPlaneTolerance of the plane (0: none)
+
+  // True when the plane holds enough of the points to serve as the background.
+  bool valid() const { return inlier_share >= kDominantPlaneMinShare; }
+};
 
 // The plane holding the most points (RANSAC, Fischler & Bolles 1981, on at most 50 000 of them,
 // refined by least squares on its inliers) among those with at least 90 % of the cameras on one

@@ -173,7 +173,7 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuin
   // Without a dominant plane the zero normal never meets a ray: the sphere alone.
   const DominantPlane plane = FindDominantPlane(scene);
   for (int k = 0; k < 3; ++k) {
-    plane_[k] = plane.valid ? static_cast<float>(plane.normal[k]) : 0.0f;
+    plane_[k] = plane.valid() ? static_cast<float>(plane.normal[k]) : 0.0f;
     plane_u_[k] = static_cast<float>(plane.axis_u[k]);
     plane_v_[k] = static_cast<float>(plane.axis_v[k]);
   }

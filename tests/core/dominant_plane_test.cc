@@ -45,7 +45,7 @@ TEST(DominantPlane, FindsTheGroundUnderAnObject) {
   AddBox(scene.points, {-1, -1, 0.1f}, {1, 1, 2}, 15000, rng);          // the object
   scene.UpdateDerived();
   const DominantPlane plane = FindDominantPlane(scene);
-  ASSERT_TRUE(plane.valid);
+  ASSERT_TRUE(plane.valid());
   EXPECT_GT(plane.normal.z(), 0.999);  // toward the cameras
   EXPECT_NEAR(plane.offset, 0.0, 0.01);
   EXPECT_NEAR(plane.inlier_share, 20000.0 / 35000.0, 0.03);
@@ -70,14 +70,14 @@ TEST(DominantPlane, NoneWithoutAPlaneThePhotosFace) {
   Scene wall = CirclingCameras(12, 0.0);
   AddBox(wall.points, {-0.005f, -3, -3}, {0.005f, 3, 3}, 20000, rng);  // the plane x = 0
   wall.UpdateDerived();
-  EXPECT_FALSE(FindDominantPlane(wall).valid);
+  EXPECT_FALSE(FindDominantPlane(wall).valid());
   Scene cloud = CirclingCameras(12, 1.6);
   AddBox(cloud.points, {-3, -3, 0.5f}, {3, 3, 6.5f}, 20000, rng);
   cloud.UpdateDerived();
-  EXPECT_FALSE(FindDominantPlane(cloud).valid);
+  EXPECT_FALSE(FindDominantPlane(cloud).valid());
   Scene empty = CirclingCameras(12, 1.6);
   empty.UpdateDerived();
-  EXPECT_FALSE(FindDominantPlane(empty).valid);
+  EXPECT_FALSE(FindDominantPlane(empty).valid());
 }
 
 }  // namespace
