@@ -158,7 +158,7 @@ void RenderOrbit(const fs::path& workspace, const fs::path& out_dir, int frames)
         renderer, tonemap, v.camera, v.cam_from_world, v.camera.width, v.camera.height, to);
     if (!fixed_la) fixed_la = f.log_average;
     WriteImage(out_dir / (v.name + ".png"), f.display);
-    render::WriteRgbaExr(out_dir / (v.name + ".exr"), f.hdr.radiance, f.hdr.valid);
+    render::WriteRgbaExr(out_dir / (v.name + ".exr"), f.hdr.radiance, f.hdr.shown());
     std::printf("      %s  %.0f ms\r", v.name.c_str(), f.hdr.ms);
     std::fflush(stdout);
   }

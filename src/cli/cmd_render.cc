@@ -134,9 +134,9 @@ void WriteOutput(const std::filesystem::path& out, const render::RenderImages& i
   switch (debug.kind) {
     case DebugRequest::kNone:
       if (exr) {
-        render::WriteRgbaExr(out, im.color, im.valid);
+        render::WriteRgbaExr(out, im.color, im.shown());
       } else {
-        WriteImage(out, ToPng(im.color, im.valid));
+        WriteImage(out, ToPng(im.color, im.shown()));
       }
       return;
     case DebugRequest::kCount:
@@ -261,7 +261,7 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
     const render::ToneMappedFrame f = render::RenderToneMapped(
         renderer, tonemap, view.camera, view.cam_from_world, size.width, size.height, tm);
     if (out.extension() == ".exr") {
-      render::WriteRgbaExr(out, f.hdr.radiance, f.hdr.valid);
+      render::WriteRgbaExr(out, f.hdr.radiance, f.hdr.shown());
     } else {
       cv::Mat bgra;
       cv::cvtColor(
@@ -269,15 +269,17 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
           bgra, cv::COLOR_BGR2BGRA);
       std::vector<cv::Mat> ch;
       cv::split(bgra, ch);
-      ch[3] = f.hdr.valid.clone();
+      ch[3] = f.hdr.shown();
       cv::merge(ch, bgra);
       WriteImage(out, bgra);
     }
     const int valid = cv::countNonZero(f.hdr.valid);
     if (valid == 0) spdlog::warn("view {}: the image is all invalid", view.name);
-    std::printf("view %s  %dx%d  valid %.2f%%  L_a %.4g  %.1f ms -> %s\n", view.name.c_str(),
-                size.width, size.height, 100.0 * valid / (size.width * size.height), f.log_average,
-                f.hdr.ms, out.c_str());
+    const double pixels = size.width * size.height;
+    std::printf("view %s  %dx%d  valid %.2f%%  filled %.2f%%  L_a %.4g  %.1f ms -> %s\n",
+                view.name.c_str(), size.width, size.height, 100.0 * valid / pixels,
+                100.0 * cv::countNonZero(f.hdr.filled) / pixels, f.log_average, f.hdr.ms,
+                out.c_str());
   }
   return 0;
 }
@@ -352,11 +354,12 @@ int Run(const RenderCliOptions& opt) {
     }
     const render::FrameCandidates& candidates = renderer.last_candidates();
     std::printf(
-        "view %s  %dx%d  valid %.2f%%  mean photos/pixel %.2f  candidates %zu of %d  depth %.1f "
-        "ms  blend %.1f ms  -> %s\n",
+        "view %s  %dx%d  valid %.2f%%  filled %.2f%%  mean photos/pixel %.2f  candidates %zu of "
+        "%d  depth %.1f ms  blend %.1f ms  fill %.1f ms  -> %s\n",
         view.name.c_str(), size.width, size.height, 100.0 * valid / (size.width * size.height),
-        mean_count, candidates.photos.size(), candidates.active, renderer.last_times().depth_ms,
-        renderer.last_times().blend_ms, out.c_str());
+        100.0 * cv::countNonZero(im.filled) / (size.width * size.height), mean_count,
+        candidates.photos.size(), candidates.active, renderer.last_times().depth_ms,
+        renderer.last_times().blend_ms, renderer.last_times().fill_ms, out.c_str());
     if (debug.kind != DebugRequest::kNone) {
       std::string names;
       for (int k : candidates.photos) names += " " + scene.photos[static_cast<size_t>(k)].name;

@@ -52,6 +52,10 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
                  "Occlusion test: relative depth tolerance, in (0, 1)")
       ->capture_default_str();
   AddBackgroundOption(app, blend.background);
+  app.add_flag("--fill,!--no-fill", blend.fill,
+               "Pixels that no photo shows (past every photo's frame) take the pull-push "
+               "interpolation of those around them, marked as filled (--no-fill: left empty)")
+      ->default_str(blend.fill ? "true" : "false");
   app.add_option("--visibility", blend.visibility,
                  "Occlusion test: hard (visible when one of the 2x2 depth texels agrees) or soft "
                  "(weighted by the share that agree)")

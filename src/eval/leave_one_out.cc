@@ -296,12 +296,13 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       cv::Mat color8;
       cv::Mat valid;
       cv::Mat from_points;  // valid pixels rendered from points, not the background
+      cv::Mat filled;       // pixels filled where no photo shows (empty: none)
     };
     std::vector<MethodImage> images;
     renderer.blend_options().mode = mode;
     render::RenderImages r =
         renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
-    images.push_back({"hdribr", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0)});
+    images.push_back({"hdribr", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0), r.filled});
     // The depth pass against GT depth, pixel for pixel: at the view's full size only.
     std::optional<DepthCounts> depth_counts;
     if (view_gt_depth.type() == CV_32FC1) {
@@ -320,13 +321,15 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       given.normal = NormalsFromDepth(given.depth, v.camera.Scaled(size.width, size.height));
       const render::RenderImages g =
           gt_renderer->RenderToImages(v.camera, v.cam_from_world, size.width, size.height, &given);
-      images.push_back({"gt_depth", to_ldr(g.color, v), g.valid, g.valid & (g.depth > 0)});
+      images.push_back(
+          {"gt_depth", to_ldr(g.color, v), g.valid, g.valid & (g.depth > 0), g.filled});
     }
     if (options.baselines) {
       renderer.blend_options().mode = render::BlendMode::kNearestPhoto;
       r = renderer.RenderToImages(v.camera, v.cam_from_world, size.width, size.height);
       renderer.blend_options().mode = mode;
-      images.push_back({"nearest_photo", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0)});
+      images.push_back(
+          {"nearest_photo", to_ldr(r.color, v), r.valid, r.valid & (r.depth > 0), r.filled});
     }
     // Colour per point blends display values of one exposure: not in radiance.
     if (options.baselines && !in_radiance) {
@@ -340,7 +343,7 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       }
       const render::PointColorImages p =
           point_pass->Render(v.camera, v.cam_from_world, size.width, size.height);
-      images.push_back({"point_colors", ToLdr8(p.color), p.valid, p.valid});
+      images.push_back({"point_colors", ToLdr8(p.color), p.valid, p.valid, {}});
     }
 
     std::vector<cv::Mat> masks;
@@ -363,12 +366,17 @@ EvalReport RunEvaluation(const Scene& scene, const gl::ShaderLibrary& shaders,
       if (cv::countNonZero(m.valid) > 0) {
         s.own_scores = CompareImages(reference, m.color8, m.valid);
       }
+      if (!m.filled.empty() && cv::countNonZero(m.filled) > 0) {
+        s.filled_coverage = cv::countNonZero(m.filled) / total;
+        s.fill_scores = CompareImages(reference, m.color8, m.filled);
+      }
       vr.methods.push_back(s);
     }
     std::string line = "view " + v.name + ":";
     for (const MethodScores& s : vr.methods) {
-      line += fmt::format("  {} {:.2f} dB (own {:.2f} dB, cov. {:.1f}%)", s.method,
-                          s.scores.psnr_db, s.own_scores.psnr_db, 100.0 * s.own_coverage);
+      line += fmt::format("  {} {:.2f} dB (own {:.2f} dB, cov. {:.1f}%, filled {:.1f}%)", s.method,
+                          s.scores.psnr_db, s.own_scores.psnr_db, 100.0 * s.own_coverage,
+                          100.0 * s.filled_coverage);
     }
     spdlog::info("{} (common {:.1f}%)", line, 100.0 * cv::countNonZero(common) / total);
     report.views.push_back(vr);

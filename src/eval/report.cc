@@ -28,7 +28,9 @@ nlohmann::json ScoresJson(const MethodScores& m) {
           {"point_coverage", m.point_coverage},
           {"own_psnr_db", m.own_scores.psnr_db},
           {"own_ssim", m.own_scores.ssim},
-          {"pixels", m.scores.pixels}};
+          {"pixels", m.scores.pixels},
+          {"filled_coverage", m.filled_coverage},
+          {"fill_psnr_db", m.fill_scores.psnr_db}};
 }
 
 nlohmann::json DepthJson(const DepthCounts& c) {
@@ -41,7 +43,8 @@ std::string CsvRow(const std::string& view, const MethodScores& m) {
   return view + "," + m.method + "," + Num(m.scores.psnr_db, 4) + "," + Num(m.scores.ssim, 5) +
          "," + Num(m.scores.coverage, 5) + "," + Num(m.own_coverage, 5) + "," +
          Num(m.point_coverage, 5) + "," + Num(m.own_scores.psnr_db, 4) + "," +
-         Num(m.own_scores.ssim, 5) + "," + std::to_string(m.scores.pixels) + "\n";
+         Num(m.own_scores.ssim, 5) + "," + std::to_string(m.scores.pixels) + "," +
+         Num(m.filled_coverage, 5) + "," + Num(m.fill_scores.psnr_db, 4) + "\n";
 }
 
 }  // namespace
@@ -49,8 +52,9 @@ std::string CsvRow(const std::string& view, const MethodScores& m) {
 std::vector<MethodScores> MeanScores(const EvalReport& report) {
   struct Acc {
     double psnr = 0, ssim = 0, coverage = 0, own = 0, points = 0, own_psnr = 0, own_ssim = 0;
+    double filled = 0, fill_psnr = 0;
     long long pixels = 0;
-    int scored = 0, own_scored = 0, views = 0;
+    int scored = 0, own_scored = 0, fill_scored = 0, views = 0;
   };
   std::vector<std::string> order;
   std::map<std::string, Acc> acc;
@@ -62,7 +66,12 @@ std::vector<MethodScores> MeanScores(const EvalReport& report) {
       a.coverage += m.scores.coverage;
       a.own += m.own_coverage;
       a.points += m.point_coverage;
+      a.filled += m.filled_coverage;
       a.pixels += m.scores.pixels;
+      if (m.fill_scores.pixels > 0) {
+        ++a.fill_scored;
+        a.fill_psnr += m.fill_scores.psnr_db;
+      }
       if (m.own_scores.pixels > 0) {
         ++a.own_scored;
         a.own_psnr += m.own_scores.psnr_db;
@@ -88,6 +97,8 @@ std::vector<MethodScores> MeanScores(const EvalReport& report) {
     m.point_coverage = a.views ? a.points / a.views : 0.0;
     m.own_scores.psnr_db = a.own_scored ? a.own_psnr / a.own_scored : 0.0;
     m.own_scores.ssim = a.own_scored ? a.own_ssim / a.own_scored : 0.0;
+    m.filled_coverage = a.views ? a.filled / a.views : 0.0;
+    m.fill_scores.psnr_db = a.fill_scored ? a.fill_psnr / a.fill_scored : 0.0;
     out.push_back(m);
   }
   return out;
@@ -106,7 +117,7 @@ std::optional<DepthCounts> TotalDepthCounts(const EvalReport& report) {
 std::string FormatCsv(const EvalReport& report) {
   std::string s =
       "view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,own_psnr_db,own_ssim,"
-      "pixels\n";
+      "pixels,filled_coverage,fill_psnr_db\n";
   for (const ViewReport& v : report.views) {
     for (const MethodScores& m : v.methods) s += CsvRow(v.name, m);
   }
@@ -147,15 +158,18 @@ void WriteReport(const EvalReport& report, const std::filesystem::path& csv_path
 
 std::string FormatMeanTable(const EvalReport& report) {
   std::ostringstream s;
-  char line[160];
-  std::snprintf(line, sizeof(line), "%-16s %9s %8s %9s %9s %9s %9s %9s\n", "method", "PSNR dB",
-                "SSIM", "coverage", "own cov.", "missing", "pts cov.", "own PSNR");
+  char line[200];
+  std::snprintf(line, sizeof(line), "%-16s %9s %8s %9s %9s %9s %9s %9s %9s %9s\n", "method",
+                "PSNR dB", "SSIM", "coverage", "own cov.", "filled", "missing", "pts cov.",
+                "own PSNR", "fill PSNR");
   s << line;
   for (const MethodScores& m : MeanScores(report)) {
-    std::snprintf(line, sizeof(line), "%-16s %9.2f %8.4f %8.1f%% %8.1f%% %8.1f%% %8.1f%% %9.2f\n",
+    std::snprintf(line, sizeof(line),
+                  "%-16s %9.2f %8.4f %8.1f%% %8.1f%% %8.1f%% %8.1f%% %8.1f%% %9.2f %9.2f\n",
                   m.method.c_str(), m.scores.psnr_db, m.scores.ssim, 100.0 * m.scores.coverage,
-                  100.0 * m.own_coverage, 100.0 * (1.0 - m.own_coverage), 100.0 * m.point_coverage,
-                  m.own_scores.psnr_db);
+                  100.0 * m.own_coverage, 100.0 * m.filled_coverage,
+                  100.0 * std::max(0.0, 1.0 - m.own_coverage - m.filled_coverage),
+                  100.0 * m.point_coverage, m.own_scores.psnr_db, m.fill_scores.psnr_db);
     s << line;
   }
   return s.str();

@@ -17,11 +17,13 @@ namespace hdribr::eval {
 
 // Scores of one method on one view.
 struct MethodScores {
-  std::string method;         // "hdribr", "nearest_photo", "point_colors"
-  ImageScores scores;         // on the view's common mask (see ViewReport)
-  double own_coverage = 0;    // share of the view's pixels this method rendered as valid
-  double point_coverage = 0;  // share it rendered from points (the background left out)
-  ImageScores own_scores;     // on every pixel it rendered
+  std::string method;          // "hdribr", "nearest_photo", "point_colors"
+  ImageScores scores;          // on the view's common mask (see ViewReport)
+  double own_coverage = 0;     // share of the view's pixels this method rendered as valid
+  double point_coverage = 0;   // share it rendered from points (the background left out)
+  ImageScores own_scores;      // on every pixel it rendered
+  double filled_coverage = 0;  // share it filled where no photo shows (render::FillPass)
+  ImageScores fill_scores;     // on the pixels it filled
 };
 
 // One evaluated view: every method is scored on the same pixels, the intersection of all the
@@ -50,8 +52,9 @@ std::vector<MethodScores> MeanScores(const EvalReport& report);
 std::optional<DepthCounts> TotalDepthCounts(const EvalReport& report);
 
 // CSV: header "view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,own_psnr_db,
-// own_ssim,pixels", one row per view and method, then rows named "mean". JSON: {kind, workspace,
-// series, settings, views: [...], mean: [...], depth} (docs/formats.md). Both written atomically.
+// own_ssim,pixels,filled_coverage,fill_psnr_db", one row per view and method, then rows named
+// "mean". JSON: {kind, workspace, series, settings, views: [...], mean: [...], depth}
+// (docs/formats.md). Both written atomically.
 std::string FormatCsv(const EvalReport& report);
 std::string FormatJson(const EvalReport& report);
 void WriteReport(const EvalReport& report, const std::filesystem::path& csv_path,

@@ -94,6 +94,10 @@ struct BlendOptions {
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
   // The plane by default (closer to held-out photos than the sphere alone, docs/benchmarks.md).
   Background background = Background::kPlane;
+  // Pixels that no photo shows (past every photo's frame, or a surface no photo sees) take the
+  // pull-push interpolation of the pixels around them (FillPass), marked as filled; false
+  // leaves them empty.
+  bool fill = true;
   Visibility visibility = Visibility::kHard;
   // Filtered blending (Eisemann et al. 2007): relative depth uncertainty along the view's ray
   // over which each blended photo is low-passed; 0 = off.

@@ -11,9 +11,10 @@ HdrPhotoSet BuildHdrPhotoSet(const gl::ShaderLibrary& shaders, const Scene& scen
   HdrPhotoSet plan = PlanHdrPhotoSet(scene, options);
   // Aligned LDR renders: one per series and view, from that series' photos only; the blended
   // display value rounded back to 8 bits, the render's validity as the mask; calibration
-  // samples only where a point was rendered.
+  // samples only where a point was rendered. Nothing is filled: the set holds photo pixels only.
   RendererOptions ropt = options.renderer;
   ropt.blend.encoding = PhotoEncoding::kDisplay;
+  ropt.blend.fill = false;
   ropt.photo_images.clear();
   Renderer renderer(shaders, scene, ropt);
   std::vector<ExposureStack> stacks(plan.views.size());

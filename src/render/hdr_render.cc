@@ -41,9 +41,12 @@ struct HdrRenderer::Impl {
   double output_scale = 1.0;  // kPrecomputed: 1 / the set's radiance_scale
 
   // kOnTheFly: every series rendered from its own photos, merged with eq. 7.
+  // The series' renders are not filled: the merge fills what none of them renders.
   HdrFrame MergeSeries(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target) {
     ExposureStack stack;
     stack.times = series_exposures;
+    const bool fill = renderer->blend_options().fill;
+    renderer->blend_options().fill = false;
     for (const std::vector<int>& photos : series_photos) {
       renderer->SetActivePhotos(photos);
       renderer->Render(camera, cam_from_world, target);
@@ -54,6 +57,7 @@ struct HdrRenderer::Impl {
       stack.masks.push_back(r.valid);
     }
     renderer->SetAllPhotosActive();
+    renderer->blend_options().fill = fill;
     HdrFrame frame;
     frame.radiance = MergeDebevec(stack, response, &frame.valid);
     return frame;
@@ -104,25 +108,27 @@ HdrRenderer::HdrRenderer(const gl::ShaderLibrary& shaders, const Scene& scene, H
 
 HdrRenderer::~HdrRenderer() = default;
 
+HdrFrame ReadHdrFrame(const RenderTarget& target, double target_scale) {
+  RenderImages r = Renderer::Read(target);
+  HdrFrame frame;
+  frame.radiance = r.color;
+  frame.valid = r.valid;
+  frame.filled = r.filled;
+  cv::patchNaNs(frame.radiance, 0.0);
+  // Nothing non-finite or negative leaves, and pixels neither valid nor filled are 0.
+  cv::max(frame.radiance, 0.0, frame.radiance);
+  cv::min(frame.radiance, 3.0e38, frame.radiance);
+  if (target_scale != 1.0) frame.radiance *= 1.0 / target_scale;
+  frame.radiance.setTo(cv::Scalar::all(0), (frame.valid | frame.filled) == 0);
+  return frame;
+}
+
 HdrFrame HdrRenderer::Render(const Camera& camera, const Rigid3d& cam_from_world, int width,
                              int height) {
   const auto start = std::chrono::steady_clock::now();
   RenderTarget target = RenderTarget::Create(width, height);
-  HdrFrame frame;
-  if (impl_->mode == HdrMode::kOnTheFly) {
-    frame = impl_->MergeSeries(camera, cam_from_world, target);
-  } else {
-    impl_->renderer->Render(camera, cam_from_world, target);
-    RenderImages r = Renderer::Read(target);
-    frame.radiance = r.color;
-    if (impl_->output_scale != 1.0) frame.radiance *= impl_->output_scale;
-    frame.valid = r.valid;
-  }
-  cv::patchNaNs(frame.radiance, 0.0);
-  // Nothing non-finite or negative leaves, and invalid pixels are 0.
-  cv::max(frame.radiance, 0.0, frame.radiance);
-  cv::min(frame.radiance, 3.0e38, frame.radiance);
-  frame.radiance.setTo(cv::Scalar::all(0), frame.valid == 0);
+  Render(camera, cam_from_world, target);
+  HdrFrame frame = ReadHdrFrame(target, target_scale());
   frame.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return frame;
@@ -153,6 +159,7 @@ void HdrRenderer::Render(const Camera& camera, const Rigid3d& cam_from_world,
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(target.color.id(), 0, 0, 0, rgba.cols, rgba.rows, GL_RGBA, GL_FLOAT,
                       rgba.data);
+  if (impl_->renderer->blend_options().fill) impl_->renderer->Fill(target);
 }
 
 HdrMode HdrRenderer::mode() const { return impl_->mode; }
@@ -177,13 +184,7 @@ ToneMappedFrame RenderToneMapped(HdrRenderer& renderer, TonemapPass& tonemap, co
   glGetTextureImage(display.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
                     static_cast<GLsizei>(rgba.total() * 4), rgba.data);
   cv::cvtColor(rgba, out.display, cv::COLOR_RGBA2BGR);
-  RenderImages r = Renderer::Read(target);
-  out.hdr.radiance = r.color;
-  cv::patchNaNs(out.hdr.radiance, 0.0);
-  cv::max(out.hdr.radiance, 0.0, out.hdr.radiance);
-  if (scale != 1.0) out.hdr.radiance *= 1.0 / scale;
-  out.hdr.valid = r.valid;
-  out.hdr.radiance.setTo(cv::Scalar::all(0), out.hdr.valid == 0);
+  out.hdr = ReadHdrFrame(target, scale);
   out.hdr.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;

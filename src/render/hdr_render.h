@@ -32,9 +32,16 @@ std::vector<HdrMode> AllHdrModes();
 // One HDR frame read back to the CPU.
 struct HdrFrame {
   cv::Mat radiance;  // CV_32FC3 BGR linear radiance (merge units: exp(g) per relative exposure)
-  cv::Mat valid;     // CV_8UC1, 255 = valid; radiance is 0 where invalid; never NaN/Inf
+  cv::Mat valid;     // CV_8UC1, 255 = rendered from photos
+  cv::Mat filled;    // CV_8UC1, 255 = the fill's (BlendOptions::fill); radiance is 0 where
+                     // neither; never NaN/Inf
   double ms = 0;     // wall time of the frame, milliseconds (renders + merge + read-back)
+
+  cv::Mat shown() const { return valid | filled; }  // 255 where radiance holds a value
 };
+
+// A render target read back as an HDR frame in radiance units (its colour / target_scale).
+HdrFrame ReadHdrFrame(const RenderTarget& target, double target_scale);
 
 class HdrRenderer {
  public:
@@ -51,7 +58,8 @@ class HdrRenderer {
 
   // Renders and reads back a width x height frame.
   HdrFrame Render(const Camera& camera, const Rigid3d& cam_from_world, int width, int height);
-  // Renders into `target` (colour rgb = radiance, a = valid), for the tone-map pass / viewer.
+  // Renders into `target` (colour rgb = radiance, a as Renderer::Render), for the tone-map pass
+  // and the viewer.
   // kPrecomputed leaves the set's stored units there (radiance x radiance_scale).
   void Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target);
 

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/photo_candidates.h"
 #include "render/blend_pass.h"
+#include "render/fill_pass.h"
 #include "render/photo_depth_maps.h"
 #include "render/photo_textures.h"
 #include "render/readback.h"
@@ -30,6 +31,7 @@ struct Renderer::Impl {
   RendererOptions options;
   BlendPass blend;  // first: its shader fails fast, before the photos are loaded
   DepthPass depth_pass;
+  FillPass fill;
   PhotoLayout layout;  // the photos' sizes, measured before any upload
   PhotoDepthMaps depth_maps;
   cv::Size depth_size;     // the depth maps' array
@@ -48,8 +50,8 @@ struct Renderer::Impl {
   // Two sets of timestamp queries used in turn, so that a render loop reads a frame's times
   // when the next one is issued instead of stalling on them.
   struct Stamps {
-    gl::TimestampQuery t[3] = {gl::TimestampQuery::Create(), gl::TimestampQuery::Create(),
-                               gl::TimestampQuery::Create()};
+    gl::TimestampQuery t[4] = {gl::TimestampQuery::Create(), gl::TimestampQuery::Create(),
+                               gl::TimestampQuery::Create(), gl::TimestampQuery::Create()};
     bool unread = false;
   };
   Stamps stamps[2];
@@ -58,9 +60,11 @@ struct Renderer::Impl {
   RenderTimes times;
 
   void ReadStamps(Stamps& s) {
-    const GLuint64 t0 = s.t[0].ResultNs(), t1 = s.t[1].ResultNs(), t2 = s.t[2].ResultNs();
+    const GLuint64 t0 = s.t[0].ResultNs(), t1 = s.t[1].ResultNs(), t2 = s.t[2].ResultNs(),
+                   t3 = s.t[3].ResultNs();
     times.depth_ms = static_cast<double>(t1 - t0) * 1e-6;
     times.blend_ms = static_cast<double>(t2 - t1) * 1e-6;
+    times.fill_ms = static_cast<double>(t3 - t2) * 1e-6;
     s.unread = false;
   }
   std::optional<RenderTarget> scratch;  // RenderToImages' target
@@ -70,6 +74,7 @@ struct Renderer::Impl {
         options(std::move(o)),
         blend(shaders),
         depth_pass(shaders, WithPoints(options.depth)),
+        fill(shaders),
         layout(MeasurePhotos(s, options.photo_images, options.max_photo_size)),
         depth_maps(MakeDepthMaps(s, depth_pass, options)),
         budget(GpuBudgetBytes(options.gpu_memory_mb)) {
@@ -244,7 +249,7 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
   // The older set is re-used: read it first if it is done (it is overwritten otherwise).
   m.newest = 1 - m.newest;
   Impl::Stamps& stamps = m.stamps[m.newest];
-  if (stamps.unread && stamps.t[2].Available()) m.ReadStamps(stamps);
+  if (stamps.unread && stamps.t[3].Available()) m.ReadStamps(stamps);
   stamps.t[0].Stamp();
   if (given) {
     UploadGivenDepth(*given, target.depth);
@@ -263,8 +268,12 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
                     m.response ? &m.response : nullptr, target.color, target.aux);
   }
   stamps.t[2].Stamp();
+  if (m.options.blend.fill) m.fill.Process(target.color);
+  stamps.t[3].Stamp();
   stamps.unread = true;
 }
+
+void Renderer::Fill(RenderTarget& target) { impl_->fill.Process(target.color); }
 
 RenderImages Renderer::RenderToImages(const Camera& camera, const Rigid3d& cam_from_world,
                                       int width, int height, const GivenDepth* given) {
@@ -288,7 +297,9 @@ RenderImages Renderer::Read(const RenderTarget& target) {
   cv::cvtColor(rgba, out.color, cv::COLOR_RGBA2BGR);
   cv::Mat alpha;
   cv::extractChannel(rgba, alpha, 3);
-  out.valid = alpha > 0.5f;
+  // Thresholds half-way between the alphas (1, kFilledAlpha, 0).
+  out.valid = alpha > 0.5f * (1.0f + kFilledAlpha);
+  out.filled = (alpha > 0.5f * kFilledAlpha) & ~out.valid;
   cv::Mat aux(target.height(), target.width(), CV_32FC4);
   glGetTextureImage(target.aux.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(aux.total() * 16),
                     aux.data);
@@ -314,10 +325,10 @@ const RenderTimes& Renderer::polled_times() {
   Impl& m = *impl_;
   Impl::Stamps& newest = m.stamps[m.newest];
   Impl::Stamps& older = m.stamps[1 - m.newest];
-  if (newest.unread && newest.t[2].Available()) {
+  if (newest.unread && newest.t[3].Available()) {
     m.ReadStamps(newest);
     older.unread = false;
-  } else if (older.unread && older.t[2].Available()) {
+  } else if (older.unread && older.t[3].Available()) {
     m.ReadStamps(older);
   }
   return m.times;

@@ -65,6 +65,7 @@ struct GivenDepth {
 struct RenderTimes {
   double depth_ms = 0;
   double blend_ms = 0;
+  double fill_ms = 0;  // FillPass (0 with BlendOptions::fill off)
 };
 
 // The photos the newest Render() blended from.
@@ -76,19 +77,24 @@ struct FrameCandidates {
 
 // CPU read-back of one rendered view. Rows top to bottom; colours BGR like the rest of the code.
 struct RenderImages {
-  cv::Mat color;   // CV_32FC3, blended value (see PhotoEncoding); 0 where invalid; never NaN
+  cv::Mat color;   // CV_32FC3, blended value (see PhotoEncoding), or the fill's where filled; 0
+                   // where neither; never NaN
   cv::Mat valid;   // CV_8UC1, 255 where depth is valid and at least one photo contributed
+  cv::Mat filled;  // CV_8UC1, 255 where the colour is the fill's (BlendOptions::fill)
   cv::Mat depth;   // CV_32FC1 camera z, 0 = no depth
   cv::Mat normal;  // CV_32FC3 camera-space normal (x, y, z)
   cv::Mat count;   // CV_32FC1 number of contributing photos
   cv::Mat weight;  // CV_32FC1 normalised weight of options.blend.debug_photo (0 when none)
+
+  cv::Mat shown() const { return valid | filled; }  // 255 where the colour holds a value
 };
 
 // GPU outputs of a frame, reused across frames of the same size.
 struct RenderTarget {
   DepthTarget depth;
-  gl::Texture color;  // RGBA32F: rgb = blended value (RGB order on the GPU), a = 1 valid / 0
-  gl::Texture aux;    // RGBA32F: r = contributing count, g = debug photo weight
+  // RGBA32F: rgb = blended value (RGB order on the GPU), a = 1 valid, kFilledAlpha filled, 0
+  gl::Texture color;
+  gl::Texture aux;  // RGBA32F: r = contributing count, g = debug photo weight
 
   static RenderTarget Create(int width, int height);
   int width() const { return color.width(); }
@@ -120,6 +126,9 @@ class Renderer {
   // with `given`, its depth replaces the depth pass.
   void Render(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target,
               const GivenDepth* given = nullptr);
+  // Fills the pixels of target's colour that no photo rendered (FillPass); Render() does it
+  // itself when blend_options().fill is set.
+  void Fill(RenderTarget& target);
   // Render() and read back.
   RenderImages RenderToImages(const Camera& camera, const Rigid3d& cam_from_world, int width,
                               int height, const GivenDepth* given = nullptr);

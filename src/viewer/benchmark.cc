@@ -49,7 +49,8 @@ void RunBenchmark(FrameRenderer& renderer, CameraController& controller, ViewSta
     frame();
     move_ms += MsSince(t0);
     const FrameStats& s = renderer.stats();
-    move_gpu += s.render_gpu.depth_ms + s.render_gpu.blend_ms + s.tonemap_gpu_ms;
+    move_gpu +=
+        s.render_gpu.depth_ms + s.render_gpu.blend_ms + s.render_gpu.fill_ms + s.tonemap_gpu_ms;
     depth_gpu += s.render_gpu.depth_ms;
     blend_gpu += s.render_gpu.blend_ms;
   }

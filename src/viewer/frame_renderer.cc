@@ -124,6 +124,7 @@ void FrameRenderer::Load(ViewState& state) {
   r.blend_options().lambda = s.lambda;
   r.blend_options().occlusion_tolerance = s.tolerance;
   r.blend_options().background = s.background;
+  r.blend_options().fill = s.fill;
   r.blend_options().sampling = s.sampling;
   r.blend_options().outlier_scale = s.outlier_scale;
   r.blend_options().refine_depth = s.refine_depth;
@@ -337,7 +338,7 @@ std::filesystem::path FrameRenderer::Screenshot(const std::filesystem::path& out
   const render::RenderImages im = render::Renderer::Read(surface.target);
   cv::Mat linear = im.color;
   if (hdr_ && hdr_->target_scale() != 1.0) linear = im.color / hdr_->target_scale();
-  render::WriteRgbaExr(exr_path, linear, im.valid);
+  render::WriteRgbaExr(exr_path, linear, im.shown());
   std::printf("screenshot: %s (tone-mapped), %s (linear)\n", png.c_str(), exr_path.c_str());
   return png;
 }

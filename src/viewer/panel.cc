@@ -111,6 +111,7 @@ void DrawSettings(ViewState& state, const Scene& scene) {
   ImGui::SliderFloat("occlusion tol.", &s.tolerance, 0.001f, 0.1f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
   EnumCombo("background", s.background, "none\0infinity\0sphere\0plane\0");
+  ImGui::Checkbox("fill what no photo shows", &s.fill);
   EnumCombo("sampling", s.sampling, "linear\0cubic\0");
   ImGui::SliderFloat("outlier scale (0 = off)", &s.outlier_scale, 0.0f, 0.5f, "%.3f");
   ImGui::SliderFloat("refine depth (0 = off)", &s.refine_depth, 0.0f, render::kMaxRefineDepth,
@@ -126,8 +127,9 @@ void DrawPanel(ViewState& state, const PanelInfo& info) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.75f);
   ImGui::Begin("hdribr", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-  ImGui::Text("%.1f fps   render %.1f ms (depth %.1f + blend %.1f GPU)", info.fps,
-              stats.render_wall_ms, stats.render_gpu.depth_ms, stats.render_gpu.blend_ms);
+  ImGui::Text("%.1f fps   render %.1f ms (depth %.1f + blend %.1f + fill %.1f GPU)", info.fps,
+              stats.render_wall_ms, stats.render_gpu.depth_ms, stats.render_gpu.blend_ms,
+              stats.render_gpu.fill_ms);
   ImGui::Text("tone map %.2f ms (GPU %.2f)   L_a %.4g", stats.tonemap_wall_ms, stats.tonemap_gpu_ms,
               stats.last_la);
   ImGui::Text("candidates %d of %d photos (chosen in %.2f ms)", stats.candidates, stats.active,

@@ -123,6 +123,7 @@ ViewState InitialViewState(const ViewerOptions& options, const Scene& scene) {
   s.lambda = options.renderer.blend.lambda;
   s.tolerance = options.renderer.blend.occlusion_tolerance;
   s.background = options.renderer.blend.background;
+  s.fill = options.renderer.blend.fill;
   s.sampling = options.renderer.blend.sampling;
   s.outlier_scale = options.renderer.blend.outlier_scale;
   s.refine_depth = options.renderer.blend.refine_depth;

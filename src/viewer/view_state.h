@@ -52,6 +52,7 @@ struct Settings {
   float lambda = 1e-4f;
   float tolerance = 0.01f;  // occlusion tolerance, relative depth
   render::Background background = render::BlendOptions{}.background;
+  bool fill = render::BlendOptions{}.fill;
   render::PhotoSampling sampling = render::BlendOptions{}.sampling;
   float outlier_scale = render::BlendOptions{}.outlier_scale;  // 0 = off
   float refine_depth = render::BlendOptions{}.refine_depth;    // 0 = off

@@ -36,6 +36,11 @@ EvalReport TwoViewReport() {
     a.own_scores.psnr_db = 28.0 + v;
     a.own_scores.ssim = 0.8;
     a.own_scores.pixels = 9;
+    if (v == 1) {  // filled in view 1 only: the fill's PSNR is averaged over that view alone
+      a.filled_coverage = 0.25;
+      a.fill_scores.psnr_db = 15.0;
+      a.fill_scores.pixels = 3;
+    }
     MethodScores b = a;
     b.method = "point_colors";
     b.scores.psnr_db = 20.0;
@@ -61,10 +66,14 @@ TEST(Report, CsvAndJsonHoldEveryRowAndTheMeans) {
   const EvalReport r = TwoViewReport();
   const std::string csv = FormatCsv(r);
   EXPECT_EQ(csv.rfind("view,method,psnr_db,ssim,coverage,own_coverage,point_coverage,"
-                      "own_psnr_db,own_ssim,pixels\n",
+                      "own_psnr_db,own_ssim,pixels,filled_coverage,fill_psnr_db\n",
                       0),
             0u);
-  EXPECT_NE(csv.find("view1,hdribr,32.0000,0.90000,0.50000,0.75000,0.62500,29.0000,0.80000,6\n"),
+  EXPECT_NE(csv.find("view0,hdribr,30.0000,0.90000,0.50000,0.75000,0.62500,28.0000,0.80000,6,"
+                     "0.00000,0.0000\n"),
+            std::string::npos);
+  EXPECT_NE(csv.find("view1,hdribr,32.0000,0.90000,0.50000,0.75000,0.62500,29.0000,0.80000,6,"
+                     "0.25000,15.0000\n"),
             std::string::npos);
   EXPECT_NE(csv.find("mean,hdribr,31.0000,0.90000,0.50000,0.75000,0.62500,28.5000,"),
             std::string::npos);
@@ -78,6 +87,8 @@ TEST(Report, CsvAndJsonHoldEveryRowAndTheMeans) {
   EXPECT_DOUBLE_EQ(j["mean"][0]["psnr_db"].get<double>(), 31.0);
   EXPECT_DOUBLE_EQ(j["mean"][0]["own_psnr_db"].get<double>(), 28.5);
   EXPECT_DOUBLE_EQ(j["mean"][0]["point_coverage"].get<double>(), 0.625);
+  EXPECT_DOUBLE_EQ(j["mean"][0]["filled_coverage"].get<double>(), 0.125);
+  EXPECT_DOUBLE_EQ(j["mean"][0]["fill_psnr_db"].get<double>(), 15.0);
 
   const auto dir = test::TempDir("eval_report");
   WriteReport(r, dir / "e.csv", dir / "e.json");

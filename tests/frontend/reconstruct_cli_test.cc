@@ -155,9 +155,9 @@ TEST(ReconstructCli, SyntheticCaptureMatchesGroundTruth) {
   EXPECT_GT(kept.size(), sparse_points / 2);
   EXPECT_LE(kept.size(), sparse_points);
   const fs::path png = dir / "bare.png";
-  const auto render =
-      test::RunCommand(Exe() + " render " + bare.string() + " --camera " +
-                       rec.images.begin()->second.name + " --out " + png.string() + " 2>&1");
+  const auto render = test::RunCommand(Exe() + " render " + bare.string() + " --camera " +
+                                       rec.images.begin()->second.name + " --no-fill --out " +
+                                       png.string() + " 2>&1");
   ASSERT_EQ(render.exit_code, 0) << render.output;
   const cv::Mat rgba = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(rgba.channels(), 4);

@@ -96,7 +96,7 @@ TEST(CalibrateCli, AutoExposureCaptureMeetsTheTargets) {
   const fs::path out = test::TempDir("calibrate_cli_render");
   const std::string photo = scene.photos[13].name;
   const std::string render = std::string(HDRIBR_EXE) + " -q render " + ws.string() + " --camera " +
-                             photo + " --hdr-mode direct ";
+                             photo + " --hdr-mode direct --no-fill ";
   auto rr = test::RunCommand(render + "--as-photo " + photo + " --out " +
                              (out / "as.png").string() + " 2>&1");
   ASSERT_EQ(rr.exit_code, 0) << rr.output;

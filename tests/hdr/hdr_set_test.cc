@@ -148,6 +148,10 @@ TEST_F(HdrSetTest, TrueResponseGlobalScaleAndModes) {
       const Camera& cam = novel.cameras.at(image.camera_id);
       const HdrFrame f = renderer.Render(cam, image.cam_from_world, cam.width, cam.height);
       ASSERT_TRUE(AllFinite(f.radiance));
+      // The fill (on by default) gives every pixel no photo shows a value, the merge's too.
+      EXPECT_EQ(cv::countNonZero(f.valid & f.filled), 0) << HdrModeName(mode);
+      EXPECT_EQ(cv::countNonZero(f.shown()), static_cast<int>(f.radiance.total()))
+          << HdrModeName(mode);
       const std::string stem = fs::path(image.name).stem().string();
       const cv::Mat gt = ReadExr(*dir_ / "gt" / "novel" / "radiance" / (stem + ".exr"));
       const cv::Mat gt_valid = ReadExr(*dir_ / "gt" / "novel" / "depth" / (stem + ".exr")) > 0;

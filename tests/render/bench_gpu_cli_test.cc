@@ -68,6 +68,7 @@ TEST(BenchGpuCli, RenderRunsEveryConfiguration) {
   for (const auto& res : doc["results"]) {
     EXPECT_GT(res["depth_ms"].get<double>(), 0.0);
     EXPECT_GT(res["blend_ms"].get<double>(), 0.0);
+    EXPECT_GT(res["fill_ms"].get<double>(), 0.0);         // the fill is on by default
     EXPECT_GT(res["valid_percent"].get<double>(), 50.0);  // the dome fills the view
   }
 }

@@ -159,10 +159,13 @@ class BlendPassTest : public ::testing::Test {
         ASSERT_LE(w, 1.0f + 1e-5f);
         ASSERT_GE(n, 0.0f);
         ASSERT_LE(n, static_cast<float>(active));
+        ASSERT_FALSE(im.valid.at<uint8_t>(y, x) && im.filled.at<uint8_t>(y, x));
         if (im.valid.at<uint8_t>(y, x)) {
           ASSERT_GE(n, 1.0f);
         } else {
-          ASSERT_EQ(c, cv::Vec3f(0, 0, 0));
+          if (!im.filled.at<uint8_t>(y, x)) {
+            ASSERT_EQ(c, cv::Vec3f(0, 0, 0));
+          }
           ASSERT_EQ(n, 0.0f);
         }
       }
@@ -283,6 +286,7 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
   const gl::ShaderLibrary shaders;
   Renderer r(shaders, scene_);
   EXPECT_EQ(r.blend_options().background, Background::kPlane);  // the default
+  r.blend_options().fill = false;  // what the background itself leaves empty
   const int photo = 1;
   r.SetActivePhotos(SameSeriesExcept(photo));
   std::map<Background, RenderImages> im;
@@ -335,6 +339,36 @@ TEST_F(BlendPassTest, BackgroundFillsWhatNoPointCovers) {
   EXPECT_LE(beyond, static_cast<int>(scene_.points.size() / 100) + 1);
   for (const Photo& p : scene_.photos)
     EXPECT_LT((p.Center() - sphere.head<3>()).norm(), sphere.w());
+}
+
+// Pixels that no photo shows (here the sky, without a background) take the fill's colour,
+// interpolated from what the photos show around them; the fill changes no pixel a photo shows.
+TEST_F(BlendPassTest, FillColoursWhatNoPhotoShows) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  Renderer r(shaders, scene_);
+  EXPECT_TRUE(r.blend_options().fill);  // the default
+  const int photo = 1;
+  r.SetActivePhotos(SameSeriesExcept(photo));
+  r.blend_options().background = Background::kNone;
+  const RenderImages filled = RenderPhotoView(r, photo);
+  r.blend_options().fill = false;
+  const RenderImages bare = RenderPhotoView(r, photo);
+  ExpectSane(filled, 5);
+  ExpectSane(bare, 5);
+  EXPECT_EQ(cv::countNonZero(filled.valid != bare.valid), 0);
+  EXPECT_EQ(cv::norm(filled.color, bare.color, cv::NORM_INF, bare.valid), 0.0);
+  EXPECT_EQ(cv::countNonZero(bare.filled), 0);
+  const cv::Mat empty = bare.valid == 0;
+  ASSERT_GT(cv::countNonZero(empty), 500) << "the view shows no sky";
+  EXPECT_EQ(cv::countNonZero(filled.filled != empty), 0);  // every empty pixel, only those
+  // Against the held-out photo, the fill is closer than the mean colour of what photos show.
+  RenderImages flat = bare;
+  flat.color.setTo(cv::mean(bare.color, bare.valid), empty);
+  const double fill_psnr = Psnr(filled, photo, empty), flat_psnr = Psnr(flat, photo, empty);
+  std::printf("fill of %d px: %.2f dB (the mean colour: %.2f dB)\n", cv::countNonZero(empty),
+              fill_psnr, flat_psnr);
+  EXPECT_GT(fill_psnr, flat_psnr + 3.0);
 }
 
 // A hole in the view's geometry that the photos' depth maps cover (points the view's depth pass

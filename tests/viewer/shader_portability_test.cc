@@ -13,6 +13,7 @@
 #include "gl/shader_library.h"
 #include "render/blend_pass.h"
 #include "render/depth_pass.h"
+#include "render/fill_pass.h"
 #include "render/point_color_pass.h"
 #include "render/pull_push.h"
 #include "render/tonemap_pass.h"
@@ -34,6 +35,7 @@ TEST(ShaderPortability, EveryProgramPassesTheReferenceCompiler) {
     render::DepthPass depth(shaders);
     render::PullPushPass occluding_pull_push(shaders, /*occlude=*/true);
     render::BlendPass blend(shaders);
+    render::FillPass fill(shaders);
     render::TonemapPass tonemap(shaders);
     render::PointColorPass point_color(shaders);
     viewer::FalseColourPass false_colour(shaders);

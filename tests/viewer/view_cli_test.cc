@@ -94,12 +94,13 @@ TEST_F(ViewCliTest, ScreenshotMatchesOfflineRender) {
   // The linear EXR next to it holds the blended values.
   const cv::Mat exr = ReadExr(out / "view.exr");
   ASSERT_EQ(exr.size(), cv::Size(test::kSmallCaptureWidth, test::kSmallCaptureHeight));
-  // The renderer options reach the viewer: without the background, the sky stays empty in
-  // both, and the viewer matches render again.
-  r = View("--hdr ldr --camera s1_v01.jpg --background none --frames 3 --screenshot " +
+  // The renderer options reach the viewer: without the background and the fill, the sky stays
+  // empty in both, and the viewer matches render again.
+  r = View("--hdr ldr --camera s1_v01.jpg --background none --no-fill --frames 3 --screenshot " +
            (out / "view_none.png").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = test::RunCommand(Exe() + " render " + Ws() + " --camera s1_v01.jpg --background none --out " +
+  r = test::RunCommand(Exe() + " render " + Ws() +
+                       " --camera s1_v01.jpg --background none --no-fill --out " +
                        (out / "render_none.png").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Comparison none = Compare(ReadPng(out / "view_none.png"), ReadPng(out / "render_none.png"));
