@@ -41,7 +41,7 @@ struct HdrRenderer::Impl {
   double output_scale = 1.0;  // kPrecomputed: 1 / the set's radiance_scale
 
   // kOnTheFly: every series rendered from its own photos, merged with eq. 7.
-  // The series' renders are not filled: the merge fills what none of them renders.
+  // The series' renders are not filled: Render() fills the merge where none of them renders.
   HdrFrame MergeSeries(const Camera& camera, const Rigid3d& cam_from_world, RenderTarget& target) {
     ExposureStack stack;
     stack.times = series_exposures;
