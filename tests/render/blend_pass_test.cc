@@ -364,6 +364,7 @@ TEST_F(BlendPassTest, FillColoursWhatNoPhotoShows) {
   EXPECT_EQ(cv::countNonZero(filled.filled != empty), 0);  // every empty pixel, only those
   // Against the held-out photo, the fill is closer than the mean colour of what photos show.
   RenderImages flat = bare;
+  flat.color = bare.color.clone();
   flat.color.setTo(cv::mean(bare.color, bare.valid), empty);
   const double fill_psnr = Psnr(filled, photo, empty), flat_psnr = Psnr(flat, photo, empty);
   std::printf("fill of %d px: %.2f dB (the mean colour: %.2f dB)\n", cv::countNonZero(empty),
