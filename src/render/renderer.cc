@@ -268,7 +268,7 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
                     m.response ? &m.response : nullptr, target.color, target.aux);
   }
   stamps.t[2].Stamp();
-  if (m.options.blend.fill) m.fill.Process(target.color);
+  if (m.options.blend.fill) Fill(target);
   stamps.t[3].Stamp();
   stamps.unread = true;
 }
