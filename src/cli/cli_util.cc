@@ -1,6 +1,8 @@
 #include "cli/cli_util.h"
 
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -47,14 +49,45 @@ int RunNamingFlags(const FlagNames& flags, const std::function<int()>& run) {
   }
 }
 
-cv::Size ParseSize(const std::string& text, const std::string& option) {
+namespace {
+
+// The size `text` names, or nothing when it is not WxH with sides from 1 to 16384.
+std::optional<cv::Size> SizeOf(const std::string& text) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
       w <= 0 || h <= 0 || w > 16384 || h > 16384) {
-    throw UsageError(option + " must be WxH with integers from 1 to 16384, got '" + text + "'");
+    return std::nullopt;
   }
-  return {w, h};
+  return cv::Size(w, h);
+}
+
+std::string SizeProblem(const std::string& text) {
+  return "must be WxH with integers from 1 to 16384, got '" + text + "'";
+}
+
+}  // namespace
+
+cv::Size ParseSize(const std::string& text, const std::string& option) {
+  const std::optional<cv::Size> size = SizeOf(text);
+  if (!size) throw UsageError(option + " " + SizeProblem(text));
+  return *size;
+}
+
+CLI::Validator SizeCheck() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string { return SizeOf(value) ? "" : SizeProblem(value); },
+      "WxH");
+}
+
+CLI::Validator OutputFolderCheck() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        const std::filesystem::path folder = std::filesystem::path(value).parent_path();
+        if (folder.empty() || std::filesystem::is_directory(folder)) return {};
+        return "folder " + folder.string() + " does not exist";
+      },
+      "");
 }
 
 std::vector<std::string> SplitList(const std::string& text) {

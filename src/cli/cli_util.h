@@ -32,6 +32,14 @@ int RunNamingFlags(const FlagNames& flags, const std::function<int()>& run);
 // including non-positive sizes or sides above 16384.
 cv::Size ParseSize(const std::string& text, const std::string& option = "--size");
 
+// CLI11 check of a WxH option by ParseSize's rule: a bad size stops the command as it parses,
+// before any work.
+CLI::Validator SizeCheck();
+
+// CLI11 check of an output file's folder: it must exist, so that a command does not do its
+// work and then fail to write the result.
+CLI::Validator OutputFolderCheck();
+
 // Items of a comma-separated list, empty items dropped ("a,,b" -> {"a", "b"}).
 std::vector<std::string> SplitList(const std::string& text);
 

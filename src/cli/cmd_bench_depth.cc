@@ -193,7 +193,8 @@ CommandRunner SetupBenchDepth(CLI::App& sub) {
                  "The target's size per axis relative to the full-size picture it previews, (0, "
                  "1]: below 1 a coarser level of the cloud is drawn")
       ->capture_default_str();
-  sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
+  sub.add_option("--json", opt->json, "Write the JSON here instead of stdout")
+      ->check(OutputFolderCheck());
   return [opt] { return Run(*opt); };
 }
 

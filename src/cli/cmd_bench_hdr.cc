@@ -140,7 +140,8 @@ CommandRunner SetupBenchHdr(CLI::App& sub) {
   sub.add_option("--repeats", opt->repeats, "Frames per view (the median is reported)")
       ->capture_default_str();
   AddMaxPhotoSizeOption(sub, opt->max_photo_size);
-  sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout");
+  sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout")
+      ->check(OutputFolderCheck());
   return [opt] { return Run(*opt); };
 }
 

@@ -166,7 +166,8 @@ CommandRunner SetupBenchMerge(CLI::App& sub) {
   sub.add_option("--lambda", opt->lambda, "hdribr smoothness weight")->capture_default_str();
   sub.add_option("--opencv-lambda", opt->opencv_lambda, "OpenCV smoothness weight")
       ->capture_default_str();
-  sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout");
+  sub.add_option("--json", opt->json_path, "Write the JSON here instead of stdout")
+      ->check(OutputFolderCheck());
   return [opt] {
     if (!(opt->lambda >= 0) || !std::isfinite(opt->lambda)) {
       throw UsageError("--lambda must be a non-negative number");

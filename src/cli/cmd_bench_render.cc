@@ -298,7 +298,8 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
       ->default_val(opt->gpu_memory);
   AddSilhouetteTrimOption(sub, opt->silhouette_trim);
   AddRefineDepthOption(sub, opt->refine_depth);
-  sub.add_option("--json", opt->json, "Write the JSON here instead of stdout");
+  sub.add_option("--json", opt->json, "Write the JSON here instead of stdout")
+      ->check(OutputFolderCheck());
   return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };
 }
 

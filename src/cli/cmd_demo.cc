@@ -218,7 +218,9 @@ CommandRunner SetupDemo(CLI::App& sub) {
   sub.add_option("--frames", opt->frames, "Frames of the headless orbit")->default_val(24);
   sub.add_option("--threads", opt->threads, "Threads for the capture (0 = all cores)")
       ->default_val(0);
-  sub.add_option("--size", opt->size, "Size of the synthetic photos, WxH")->default_val("640x480");
+  sub.add_option("--size", opt->size, "Size of the synthetic photos, WxH")
+      ->default_val("640x480")
+      ->check(SizeCheck());
   sub.add_option("--series", opt->series, "Exposure series of the capture")->default_val(3);
   sub.add_option("--views", opt->views, "Views per series")->default_val(16);
   return [opt] {

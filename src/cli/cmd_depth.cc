@@ -119,9 +119,11 @@ CommandRunner SetupDepth(CLI::App& sub) {
   AddPointRasterOption(sub, opt->pass.raster);
   AddDepthModeOption(sub, opt->pass.mode, "--mode");
   AddSilhouetteTrimOption(sub, opt->pass.silhouette_trim);
-  sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)");
+  sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)")
+      ->check(SizeCheck());
   sub.add_option("--out", opt->out, "Output depth EXR (camera z, channel Z, 0 = invalid)")
-      ->required();
+      ->required()
+      ->check(OutputFolderCheck());
   return [opt, photo, camera] {
     if (photo->count() == 0 && camera->count() == 0) {
       throw UsageError("depth: give --photo NAME or --camera FILE");

@@ -241,10 +241,14 @@ CommandRunner SetupMerge(CLI::App& sub) {
   sub.add_flag("--plain-debevec", opt->plain_debevec,
                "Calibrate as Debevec-Malik published (smoothness in z, all samples, one solve)")
       ->excludes(response);
-  sub.add_option("--out", opt->out, "Output radiance map (.exr, half RGB)")->required();
+  sub.add_option("--out", opt->out, "Output radiance map (.exr, half RGB)")
+      ->required()
+      ->check(OutputFolderCheck());
   sub.add_flag("--float", opt->float_exr, "Write 32-bit float instead of half");
-  sub.add_option("--save-response", opt->save_response, "Write the response curve used (JSON)");
-  sub.add_option("--tonemap", opt->tonemap, "Also write a Reinhard tone-mapped image (.png/.jpg)");
+  sub.add_option("--save-response", opt->save_response, "Write the response curve used (JSON)")
+      ->check(OutputFolderCheck());
+  sub.add_option("--tonemap", opt->tonemap, "Also write a Reinhard tone-mapped image (.png/.jpg)")
+      ->check(OutputFolderCheck());
   sub.add_option("--key", opt->reinhard.key, "Reinhard key k")->capture_default_str();
   sub.add_option("--exposure", opt->reinhard.exposure, "Display exposure multiplier")
       ->capture_default_str();

@@ -383,11 +383,13 @@ CommandRunner SetupRender(CLI::App& sub) {
       "View: a photo name, \"QW QX QY QZ TX TY TZ [CAMERA_ID [NAME]]\" or a camera file (.json)");
   auto* path = sub.add_option("--path", opt->path, "Camera path (JSON, docs/formats.md)");
   camera->excludes(path);
-  sub.add_option("--out", opt->out, "Output image (.png: 8-bit + alpha; .exr: float RGBA)");
+  sub.add_option("--out", opt->out, "Output image (.png: 8-bit + alpha; .exr: float RGBA)")
+      ->check(OutputFolderCheck());
   sub.add_option("--out-dir", opt->out_dir, "Output folder for --path (frame_NNNN.FORMAT)");
   sub.add_option("--format", opt->format, "Frame format for --path")
       ->check(CLI::IsMember({"png", "exr"}));
-  sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)");
+  sub.add_option("--size", opt->size, "Output size WxH (default: the camera's)")
+      ->check(SizeCheck());
   sub.add_option("--debug", opt->debug,
                  "Write a debug map instead of the colour: count, weight:PHOTO, depth, normal");
   sub.add_option("--exclude", opt->exclude, "Photos left out (names)");

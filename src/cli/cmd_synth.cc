@@ -105,12 +105,13 @@ CommandRunner SetupBenchSynth(CLI::App& sub) {
   sub.add_option("--scene", opt->capture.scene, "Scene: default, thin")->capture_default_str();
   sub.add_option("--series", opt->capture.series, "Exposure series")->capture_default_str();
   sub.add_option("--views", opt->capture.views, "Views per series")->capture_default_str();
-  sub.add_option("--size", opt->size, "Image size WxH")->capture_default_str();
+  sub.add_option("--size", opt->size, "Image size WxH")->capture_default_str()->check(SizeCheck());
   sub.add_option("--novel", opt->capture.novel_views, "Novel views")->capture_default_str();
   sub.add_option("--threads", opt->capture.threads, "Threads (0 = all cores)")
       ->capture_default_str();
   sub.add_option("--repeat", opt->repeat, "Runs (the best is reported)")->capture_default_str();
-  sub.add_option("--json", opt->json, "Write the JSON to this file instead of stdout");
+  sub.add_option("--json", opt->json, "Write the JSON to this file instead of stdout")
+      ->check(OutputFolderCheck());
   return [opt] { return RunNamingFlags(CaptureFlags(), [&] { return RunBench(*opt); }); };
 }
 
@@ -124,7 +125,7 @@ CommandRunner SetupSynth(CLI::App& sub) {
   sub.add_option("--series", opt->capture.series, "Exposure series (2 EV apart)")
       ->capture_default_str();
   sub.add_option("--views", opt->capture.views, "Views per series")->capture_default_str();
-  sub.add_option("--size", opt->size, "Image size WxH")->capture_default_str();
+  sub.add_option("--size", opt->size, "Image size WxH")->capture_default_str()->check(SizeCheck());
   sub.add_option("--seed", opt->capture.seed, "Random seed (same seed, same bytes)")
       ->capture_default_str();
   sub.add_option("--novel", opt->capture.novel_views, "Ground-truth novel test views")

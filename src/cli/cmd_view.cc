@@ -52,9 +52,11 @@ CommandRunner SetupView(CLI::App& sub) {
       ->default_val(0)
       ->check(kAtLeastZero);
   sub.add_option("--screenshot", opt->screenshot,
-                 "Scripted: write the last frame (.png tone-mapped + .exr linear)");
+                 "Scripted: write the last frame (.png tone-mapped + .exr linear)")
+      ->check(OutputFolderCheck());
   sub.add_option("--window-screenshot", opt->window_screenshot,
-                 "Scripted: write the whole window (picture + UI) of the last frame (.png)");
+                 "Scripted: write the whole window (picture + UI) of the last frame (.png)")
+      ->check(OutputFolderCheck());
   sub.add_option("--display", opt->display,
                  "Display mode: final, depth, normals, classes, count, splats, nearest")
       ->transform(NamesTo(EnumMap(viewer::DisplayModeNames())))
@@ -63,7 +65,8 @@ CommandRunner SetupView(CLI::App& sub) {
   sub.add_flag("--frustums", opt->show_frustums, "Draw the input camera frustums at start");
   sub.add_flag("--hide-panel", opt->hide_panel, "Start without the control panel (U shows it)");
   sub.add_option("--play", opt->play, "Play this camera path (JSON) from the start");
-  sub.add_option("--record", opt->record, "Where R saves the recorded path (hdribr_path.json)");
+  sub.add_option("--record", opt->record, "Where R saves the recorded path (hdribr_path.json)")
+      ->check(OutputFolderCheck());
   sub.add_flag("--benchmark", opt->benchmark,
                "Print the cost of an exposure change vs a camera move, then exit");
   sub.add_flag("--hidden", opt->hidden, "Invisible window (tests)");

@@ -168,6 +168,19 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
     EXPECT_NE(r.output.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.output;
   }
   EXPECT_FALSE(std::filesystem::exists(out / "x.png"));
+  // A bad size or an output folder that does not exist: one line as the options are parsed,
+  // before the renderer loads anything.
+  r = test::RunCommand(base + " --camera s0_v00.jpg --size 64x0 --out " + (out / "x.png").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("--size: must be WxH"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  r = test::RunCommand(base + " --camera s0_v00.jpg --out " + (out / "none" / "x.png").string());
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("--out: folder " + (out / "none").string() + " does not exist"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "none"));
   // An output among the workspace's photos (the next load would take it for one) is refused,
   // with one line naming it; so is an output folder there.
   const auto images = Dir() / "workspace" / "images";
