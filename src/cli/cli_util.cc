@@ -1,5 +1,6 @@
 #include "cli/cli_util.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -7,6 +8,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/image.h"
 
 namespace hdribr::cli {
 
@@ -86,6 +88,20 @@ CLI::Validator OutputFolderCheck() {
         const std::filesystem::path folder = std::filesystem::path(value).parent_path();
         if (folder.empty() || std::filesystem::is_directory(folder)) return {};
         return "folder " + folder.string() + " does not exist";
+      },
+      "");
+}
+
+CLI::Validator ExtensionCheck(std::vector<std::string> extensions) {
+  std::string names;
+  for (size_t i = 0; i < extensions.size(); ++i) {
+    names += (i == 0 ? "" : i + 1 == extensions.size() ? " or " : ", ") + extensions[i];
+  }
+  return CLI::Validator(
+      [extensions, names](std::string& value) -> std::string {
+        const std::string ext = LowerExtension(value);
+        if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) return {};
+        return "must end in " + names + ", got '" + value + "'";
       },
       "");
 }

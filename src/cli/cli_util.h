@@ -40,6 +40,9 @@ CLI::Validator SizeCheck();
 // work and then fail to write the result.
 CLI::Validator OutputFolderCheck();
 
+// CLI11 check of an output file's format: its LowerExtension is one of `extensions` (".exr").
+CLI::Validator ExtensionCheck(std::vector<std::string> extensions);
+
 // Items of a comma-separated list, empty items dropped ("a,,b" -> {"a", "b"}).
 std::vector<std::string> SplitList(const std::string& text);
 

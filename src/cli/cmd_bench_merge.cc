@@ -53,8 +53,7 @@ ExposureStack LoadStack(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw InputError(dir, "no such dataset folder");
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(dir)) {
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    const std::string ext = LowerExtension(entry.path());
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());

@@ -53,7 +53,6 @@ cv::Mat DepthFalseColour(const cv::Mat& depth) {
 int Run(const DepthOptions& opt) {
   const render::DepthMode mode = opt.pass.mode;
   const std::filesystem::path out = opt.out;
-  if (out.extension() != ".exr") throw UsageError("--out must end in .exr, got " + opt.out);
   CheckOutsideInputs(opt.workspace, out);
   const Scene scene = LoadWorkspace(opt.workspace);
   Camera camera;
@@ -123,7 +122,8 @@ CommandRunner SetupDepth(CLI::App& sub) {
       ->check(SizeCheck());
   sub.add_option("--out", opt->out, "Output depth EXR (camera z, channel Z, 0 = invalid)")
       ->required()
-      ->check(OutputFolderCheck());
+      ->check(OutputFolderCheck())
+      ->check(ExtensionCheck({".exr"}));
   return [opt, photo, camera] {
     if (photo->count() == 0 && camera->count() == 0) {
       throw UsageError("depth: give --photo NAME or --camera FILE");

@@ -42,11 +42,6 @@ struct MergeOptions {
   double log_average = 0;  // 0: computed per image
 };
 
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
 std::vector<double> ResolveTimes(const MergeOptions& opt) {
   if (opt.times_file.empty()) {
     if (opt.times.size() != opt.images.size()) {
@@ -90,15 +85,6 @@ std::vector<double> ResolveTimes(const MergeOptions& opt) {
 }
 
 int Run(const MergeOptions& opt) {
-  if (Lower(fs::path(opt.out).extension().string()) != ".exr") {
-    throw UsageError("--out must name an .exr file: " + opt.out);
-  }
-  if (!opt.tonemap.empty()) {
-    const std::string ext = Lower(fs::path(opt.tonemap).extension().string());
-    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") {
-      throw UsageError("--tonemap must name a .png or .jpg file: " + opt.tonemap);
-    }
-  }
   if (!(opt.lambda >= 0) || !std::isfinite(opt.lambda)) {
     throw UsageError("--lambda must be a non-negative number");
   }
@@ -243,12 +229,14 @@ CommandRunner SetupMerge(CLI::App& sub) {
       ->excludes(response);
   sub.add_option("--out", opt->out, "Output radiance map (.exr, half RGB)")
       ->required()
-      ->check(OutputFolderCheck());
+      ->check(OutputFolderCheck())
+      ->check(ExtensionCheck({".exr"}));
   sub.add_flag("--float", opt->float_exr, "Write 32-bit float instead of half");
   sub.add_option("--save-response", opt->save_response, "Write the response curve used (JSON)")
       ->check(OutputFolderCheck());
   sub.add_option("--tonemap", opt->tonemap, "Also write a Reinhard tone-mapped image (.png/.jpg)")
-      ->check(OutputFolderCheck());
+      ->check(OutputFolderCheck())
+      ->check(ExtensionCheck({".png", ".jpg", ".jpeg"}));
   sub.add_option("--key", opt->reinhard.key, "Reinhard key k")->capture_default_str();
   sub.add_option("--exposure", opt->reinhard.exposure, "Display exposure multiplier")
       ->capture_default_str();

@@ -129,7 +129,7 @@ DebugRequest ParseDebug(const std::string& s, const Scene& scene) {
 // Writes the requested image: the colour (or a debug map) as PNG or EXR by extension.
 void WriteOutput(const std::filesystem::path& out, const render::RenderImages& im,
                  const DebugRequest& debug, int photo_count) {
-  const bool exr = out.extension() == ".exr";
+  const bool exr = LowerExtension(out) == ".exr";
   const cv::Mat depth_valid = im.depth > 0;
   switch (debug.kind) {
     case DebugRequest::kNone:
@@ -188,13 +188,6 @@ void WriteOutput(const std::filesystem::path& out, const render::RenderImages& i
       }
       return;
     }
-  }
-}
-
-void CheckOutputExtension(const std::filesystem::path& out) {
-  const auto ext = out.extension();
-  if (ext != ".png" && ext != ".exr") {
-    throw UsageError("--out must end in .png or .exr, got " + out.string());
   }
 }
 
@@ -260,7 +253,7 @@ int RunHdr(const RenderCliOptions& opt, const Scene& scene, const std::vector<Vi
                                                       : std::filesystem::path(opt.out);
     const render::ToneMappedFrame f = render::RenderToneMapped(
         renderer, tonemap, view.camera, view.cam_from_world, size.width, size.height, tm);
-    if (out.extension() == ".exr") {
+    if (LowerExtension(out) == ".exr") {
       render::WriteRgbaExr(out, f.hdr.radiance, f.hdr.shown());
     } else {
       cv::Mat bgra;
@@ -291,7 +284,6 @@ int Run(const RenderCliOptions& opt) {
   }
   if (!opt.camera.empty() && opt.out.empty()) throw UsageError("render: --camera needs --out");
   if (!opt.path.empty() && opt.out_dir.empty()) throw UsageError("render: --path needs --out-dir");
-  if (!opt.out.empty()) CheckOutputExtension(opt.out);
   CheckBlendOptions(opt.renderer.blend);
   if (!(opt.key > 0) || !(opt.gamma > 0) || !(opt.log_average >= 0) ||
       !std::isfinite(opt.exposure_ev) || !std::isfinite(opt.key) || !std::isfinite(opt.gamma) ||
@@ -384,7 +376,8 @@ CommandRunner SetupRender(CLI::App& sub) {
   auto* path = sub.add_option("--path", opt->path, "Camera path (JSON, docs/formats.md)");
   camera->excludes(path);
   sub.add_option("--out", opt->out, "Output image (.png: 8-bit + alpha; .exr: float RGBA)")
-      ->check(OutputFolderCheck());
+      ->check(OutputFolderCheck())
+      ->check(ExtensionCheck({".png", ".exr"}));
   sub.add_option("--out-dir", opt->out_dir, "Output folder for --path (frame_NNNN.FORMAT)");
   sub.add_option("--format", opt->format, "Frame format for --path")
       ->check(CLI::IsMember({"png", "exr"}));

@@ -53,7 +53,8 @@ CommandRunner SetupView(CLI::App& sub) {
       ->check(kAtLeastZero);
   sub.add_option("--screenshot", opt->screenshot,
                  "Scripted: write the last frame (.png tone-mapped + .exr linear)")
-      ->check(OutputFolderCheck());
+      ->check(OutputFolderCheck())
+      ->check(ExtensionCheck({".png", ".exr"}));
   sub.add_option("--window-screenshot", opt->window_screenshot,
                  "Scripted: write the whole window (picture + UI) of the last frame (.png)")
       ->check(OutputFolderCheck());
@@ -93,10 +94,6 @@ CommandRunner SetupView(CLI::App& sub) {
       opt->frames = 3;
     }
     if (opt->benchmark && opt->frames == 0) opt->frames = 2;
-    const auto ext = opt->screenshot.extension();
-    if (!opt->screenshot.empty() && ext != ".png" && ext != ".exr") {
-      throw UsageError("--screenshot must end in .png or .exr, got " + opt->screenshot.string());
-    }
     for (const auto& out : {opt->screenshot, opt->window_screenshot, opt->record}) {
       CheckOutsideInputs(opt->workspace, out);
     }

@@ -1,6 +1,7 @@
 #include "io/image.h"
 
 #include <algorithm>
+#include <cctype>
 #include <exception>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -76,9 +77,7 @@ cv::Size ReadImageSize(const fs::path& path) {
 void WriteImage(const fs::path& path, const cv::Mat& image, int jpeg_quality) {
   if (image.empty()) throw UsageError("WriteImage: empty image for " + path.string());
   std::vector<int> params;
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = LowerExtension(path);
   if (ext == ".jpg" || ext == ".jpeg") params = {cv::IMWRITE_JPEG_QUALITY, jpeg_quality};
   AtomicFile file(path);
   bool ok = false;
@@ -89,6 +88,13 @@ void WriteImage(const fs::path& path, const cv::Mat& image, int jpeg_quality) {
   }
   if (!ok) throw InputError(path, "cannot write image");
   file.Commit();
+}
+
+std::string LowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
 }
 
 }  // namespace hdribr

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace hdribr {
 
@@ -13,5 +14,8 @@ cv::Mat ReadImage(const std::filesystem::path& path);
 cv::Size ReadImageSize(const std::filesystem::path& path);
 // Writes PNG/JPEG (by extension) atomically; quality applies to JPEG.
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image, int jpeg_quality = 95);
+// A file's extension in lower case with its dot (".exr" for "a.EXR"), empty when it has none:
+// the rule by which every reader and writer picks a format.
+std::string LowerExtension(const std::filesystem::path& path);
 
 }  // namespace hdribr

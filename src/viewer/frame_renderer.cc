@@ -325,7 +325,7 @@ void FrameRenderer::Blit(int fb_width, int fb_height, bool frustums, int current
 }
 
 std::filesystem::path FrameRenderer::Screenshot(const std::filesystem::path& out) {
-  const bool exr = out.extension() == ".exr";
+  const bool exr = LowerExtension(out) == ".exr";
   std::filesystem::path png = exr ? std::filesystem::path(out).replace_extension(".png") : out;
   std::filesystem::path exr_path = std::filesystem::path(out).replace_extension(".exr");
   const Surface& surface = Current();

@@ -110,10 +110,11 @@ TEST(MergeCli, NamedTimesFileAndInlineTimes) {
   const auto named = test::RunCommand(Exe() + " merge" + Join(images) + " --times-file " +
                                       Q(dir / "times.txt") + " --out " + Q(dir / "a.exr"));
   ASSERT_EQ(named.exit_code, 0) << named.output;
+  // The extension's case does not matter.
   const auto inline_times = test::RunCommand(Exe() + " merge" + Join(images) +
-                                             " --times 0.25 1/1 4 --out " + Q(dir / "b.exr"));
+                                             " --times 0.25 1/1 4 --out " + Q(dir / "b.EXR"));
   ASSERT_EQ(inline_times.exit_code, 0) << inline_times.output;
-  const cv::Mat a = ReadExr(dir / "a.exr"), b = ReadExr(dir / "b.exr");
+  const cv::Mat a = ReadExr(dir / "a.exr"), b = ReadExr(dir / "b.EXR");
   EXPECT_TRUE(FiniteNonNegative(a));
   EXPECT_LE(cv::norm(a, b, cv::NORM_INF), 0.0);
   // Brighter columns have more radiance.
@@ -127,6 +128,16 @@ TEST(MergeCli, NamedTimesFileAndInlineTimes) {
   EXPECT_NE(missing.output.find("missing.txt"), std::string::npos) << missing.output;
   EXPECT_NE(missing.output.find("ramp1.png"), std::string::npos) << missing.output;
   EXPECT_FALSE(fs::exists(dir / "c.exr"));
+
+  // Formats the outputs cannot take: one line each, before any work.
+  for (const std::string& bad : {" --out " + Q(dir / "d.png"),
+                                 " --out " + Q(dir / "d.exr") + " --tonemap " + Q(dir / "d.tif")}) {
+    const auto r = test::RunCommand(Exe() + " merge" + Join(images) + " --times 0.25 1 4" + bad);
+    EXPECT_EQ(r.exit_code, 64) << r.output;
+    EXPECT_NE(r.output.find("must end in ."), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "d.exr"));
+  }
 }
 
 TEST(MergeCli, PlainDebevecFlagSelectsThePublishedCalibration) {

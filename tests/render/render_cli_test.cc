@@ -145,7 +145,11 @@ TEST_F(RenderCliTest, BadInputAndLookingAway) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("unit quaternion"), std::string::npos) << r.output;
   r = test::RunCommand(base + " --camera s0_v00.jpg --out " + (out / "x.jpg").string());
-  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.exit_code, 64) << r.output;
+  EXPECT_NE(r.output.find("--out: must end in .png or .exr, got '" + (out / "x.jpg").string()),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   r = test::RunCommand(base + " --camera s0_v00.jpg --exclude zz --out " +
                        (out / "x.png").string());
   EXPECT_NE(r.exit_code, 0);
