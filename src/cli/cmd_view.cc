@@ -56,8 +56,9 @@ CommandRunner SetupView(CLI::App& sub) {
       ->check(OutputFolderCheck())
       ->check(ExtensionCheck({".png", ".exr"}));
   sub.add_option("--window-screenshot", opt->window_screenshot,
-                 "Scripted: write the whole window (picture + UI) of the last frame (.png)")
-      ->check(OutputFolderCheck());
+                 "Scripted: write the whole window (picture + UI) of the last frame (.png/.jpg)")
+      ->check(OutputFolderCheck())
+      ->check(ExtensionCheck({".png", ".jpg", ".jpeg"}));
   sub.add_option("--display", opt->display,
                  "Display mode: final, depth, normals, classes, count, splats, nearest")
       ->transform(NamesTo(EnumMap(viewer::DisplayModeNames())))

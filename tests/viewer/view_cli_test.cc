@@ -3,6 +3,7 @@
 // cleanly. Skips with a message when xvfb-run is absent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -325,6 +326,14 @@ TEST_F(ViewCliTest, BadInputIsOneClearError) {
   r = View("--hdr precomputed --frames 1");  // no HDR set in this workspace
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("hdr"), std::string::npos) << r.output;
+  // Screenshots in a format they cannot be written in: one line, before the window opens.
+  for (const std::string bad : {"--screenshot shot.jpg", "--window-screenshot shot.exr"}) {
+    r = View(bad);
+    EXPECT_EQ(r.exit_code, 64) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find(bad.substr(0, bad.find(' ')) + ": must end in ."), std::string::npos)
+        << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
 }
 
 }  // namespace
