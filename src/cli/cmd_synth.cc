@@ -102,7 +102,10 @@ HDRIBR_BENCH(synth, "Synthetic capture rendering speed (hdribr synth)", SetupBen
 
 CommandRunner SetupBenchSynth(CLI::App& sub) {
   auto opt = std::make_shared<BenchSynthOptions>();
-  sub.add_option("--scene", opt->capture.scene, "Scene: default, thin")->capture_default_str();
+  sub.add_option(
+         "--scene", opt->capture.scene,
+         "Scene: default, thin, arches, railing, corner, facade, glossy, open, random (by --seed)")
+      ->capture_default_str();
   sub.add_option("--series", opt->capture.series, "Exposure series")->capture_default_str();
   sub.add_option("--views", opt->capture.views, "Views per series")->capture_default_str();
   sub.add_option("--size", opt->size, "Image size WxH")->capture_default_str()->check(SizeCheck());
@@ -121,7 +124,10 @@ HDRIBR_COMMAND(synth, "Make a ground-truth synthetic multi-exposure capture", Se
 CommandRunner SetupSynth(CLI::App& sub) {
   auto opt = std::make_shared<SynthCliOptions>();
   sub.add_option("out", opt->out, "Output folder (must not exist or be empty)");
-  sub.add_option("--scene", opt->capture.scene, "Scene: default, thin")->capture_default_str();
+  sub.add_option(
+         "--scene", opt->capture.scene,
+         "Scene: default, thin, arches, railing, corner, facade, glossy, open, random (by --seed)")
+      ->capture_default_str();
   sub.add_option("--series", opt->capture.series, "Exposure series (2 EV apart)")
       ->capture_default_str();
   sub.add_option("--views", opt->capture.views, "Views per series")->capture_default_str();

@@ -51,6 +51,18 @@ Rigid3d ArcCamera(const SynthScene& scene, double azimuth, double distance, doub
   return Rigid3d(roll_q, Vector3d::Zero()) * look;
 }
 
+// Camera of a walk along a facade: `x` along the walk from the look-at point, `distance` in
+// front of it (-y), `height` above it; it aims at the facade ahead, a little towards the walk's
+// centre.
+Rigid3d FacadeCamera(const SynthScene& scene, double x, double distance, double height,
+                     const Vector3d& target_offset, double roll) {
+  const Vector3d eye = scene.look_at + Vector3d(x, -distance, height);
+  const Vector3d target = scene.look_at + Vector3d(0.6 * x, 0, 0) + target_offset;
+  const Rigid3d look = LookAt(eye, target, Vector3d::UnitZ());
+  const Eigen::Quaterniond roll_q(Eigen::AngleAxisd(roll, Vector3d::UnitZ()));
+  return Rigid3d(roll_q, Vector3d::Zero()) * look;
+}
+
 std::string Stem(const std::string& name) { return fs::path(name).stem().string(); }
 
 ColmapModel ModelOf(const Camera& camera, const std::vector<PlannedView>& views,
@@ -144,14 +156,15 @@ CapturePlan PlanCapture(const CaptureOptions& o) {
   CapturePlan plan;
   plan.options = o;
   plan.response.toe = o.toe;
-  plan.scene = MakeScene(o.scene);
+  plan.scene = MakeScene(o.scene, o.seed);
   const double f = 0.9 * o.width;
   plan.camera = Camera::Pinhole(1, o.width, o.height, f, f, 0.5 * o.width, 0.5 * o.height);
   plan.focal_mm = f / o.width * kSensorWidthMm;
 
-  // Hand-held: the series interleave along a 120-degree arc; each view is jittered in
-  // azimuth, distance, height, aim and roll.
-  const double arc = 120 * kDeg;
+  // Hand-held: the series interleave along a 120-degree arc (or a walk along the facade); each
+  // view is jittered in azimuth (position along the walk), distance, height, aim and roll.
+  const bool facade = plan.scene.path == CameraPath::kFacade;
+  const double arc = facade ? 1.5 * plan.scene.size : 120 * kDeg;
   const double step = arc / o.views;
   SplitMix64 rng(Mix(o.seed, 1));
   int id = 1;
@@ -168,8 +181,11 @@ CapturePlan PlanCapture(const CaptureOptions& o) {
       const double roll = rng.Uniform(-3, 3) * kDeg;
       char name[64];
       std::snprintf(name, sizeof(name), "s%d_v%02d.jpg", s, v);
-      plan.photos.push_back(
-          {name, id++, s, t, t, ArcCamera(plan.scene, az, dist, height, aim, roll)});
+      const Rigid3d cam_from_world =
+          facade
+              ? FacadeCamera(plan.scene, az, 0.75 * dist, height - 0.8 * plan.scene.size, aim, roll)
+              : ArcCamera(plan.scene, az, dist, height, aim, roll);
+      plan.photos.push_back({name, id++, s, t, t, cam_from_world});
     }
   }
   if (o.exposure == "auto") MeterExposures(plan);
@@ -179,12 +195,16 @@ CapturePlan PlanCapture(const CaptureOptions& o) {
   }
   // Novel views: a steadier, slightly closer and lower arc inside the captured one.
   for (int k = 0; k < o.novel_views; ++k) {
-    const double az = o.novel_views == 1 ? 0.0 : (-50 + 100.0 * k / (o.novel_views - 1)) * kDeg;
+    const double u = o.novel_views == 1 ? 0.0 : -1 + 2.0 * k / (o.novel_views - 1);
     char name[64];
     std::snprintf(name, sizeof(name), "novel_%02d", k);
-    plan.novel.push_back({name, k + 1, -1, std::ldexp(1.0, -7), std::ldexp(1.0, -7),
-                          ArcCamera(plan.scene, az, 1.9 * plan.scene.size, 0.75 * plan.scene.size,
-                                    Vector3d::Zero(), 0.0)});
+    const Rigid3d cam_from_world =
+        facade ? FacadeCamera(plan.scene, 0.5 * u * plan.scene.size, 1.5 * plan.scene.size,
+                              -0.05 * plan.scene.size, Vector3d::Zero(), 0.0)
+               : ArcCamera(plan.scene, 50 * kDeg * u, 1.9 * plan.scene.size, 0.75 * plan.scene.size,
+                           Vector3d::Zero(), 0.0);
+    plan.novel.push_back(
+        {name, k + 1, -1, std::ldexp(1.0, -7), std::ldexp(1.0, -7), cam_from_world});
   }
   return plan;
 }

@@ -10,6 +10,7 @@
 #include "core/rigid3.h"
 #include "synth/camera_response.h"
 #include "synth/ray_tracer.h"
+#include "synth/scene_layouts.h"
 #include "synth/synth_scene.h"
 
 namespace hdribr::synth {

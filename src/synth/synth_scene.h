@@ -38,6 +38,12 @@ struct Shape {
   int material = 0;
 };
 
+// How a capture's hand-held cameras move (synth/capture.cc).
+enum class CameraPath {
+  kArc,     // a 120-degree arc around look_at, 2.2 scene sizes away
+  kFacade,  // a straight walk along x, 1.5 scene sizes long, in front of look_at, facing +y
+};
+
 struct Ray {
   Eigen::Vector3d origin;
   Eigen::Vector3d direction;  // unit length
@@ -67,6 +73,7 @@ class SynthScene {
   std::vector<PointLight> point_lights;
   Eigen::Vector3d look_at = Eigen::Vector3d::Zero();  // where the capture cameras aim
   double size = 1.0;                                  // scene extent used for camera placement
+  CameraPath path = CameraPath::kArc;                 // how a capture's cameras move
 
   // Nearest hit with t in (t_min, t_max); Hit::shape = -1 when none.
   Hit Intersect(const Ray& ray, double t_min = 1e-6, double t_max = 1e30) const;
@@ -83,10 +90,5 @@ class SynthScene {
  private:
   bool material_emits(const Shape& s) const;
 };
-
-// Names accepted by MakeScene: "default", "thin".
-std::vector<std::string> SceneNames();
-// Builds a named scene; throws UsageError for an unknown name.
-SynthScene MakeScene(const std::string& name);
 
 }  // namespace hdribr::synth

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "synth/camera_response.h"
+#include "synth/scene_layouts.h"
 #include "synth/synth_scene.h"
 
 namespace hdribr::synth {
