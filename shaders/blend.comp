@@ -8,7 +8,8 @@
 // without depth can show a background (BACKGROUND): the scene's dominant plane, a sphere
 // around the scene or a surface at infinity, seen by the photos whose depth maps hold no point
 // there either, or the surface that the photos' depth maps hold along the pixel's ray
-// (HoleDepth), or the depth along it where the photos agree (SweepDepth). Docs: docs/algorithms.md.
+// (HoleDepth), or the depth along it where the photos agree (SweepDepth).
+// Docs: docs/algorithms/blend.md.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // One per scene photo (std430, matches PhotoGpu in blend_pass.cc).
@@ -61,7 +62,7 @@ layout(location = 23) uniform vec3 u_plane_v;
 layout(location = 24) uniform vec4 u_plane_extent;
 
 // Modes, fixed per program (BlendPass::ProgramFor): llvmpipe pays for both sides of a branch on
-// a uniform, so they are constants here (docs/algorithms.md, "Modes compiled per program").
+// a uniform, so they are constants here (docs/decisions/0013).
 #ifndef ENCODING
 #define ENCODING 0  // 0 display, 1 radiance
 #endif

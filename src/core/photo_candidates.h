@@ -1,7 +1,7 @@
 // Candidate photos of a view: the few photos, among the allowed ones, that can matter for the
 // pixels the view sees, so that the per-pixel blend loops over those only. Chosen on the CPU
 // from a fixed random sample of the point cloud, with a coarse occlusion test per photo
-// (docs/algorithms.md, "Candidate photos").
+// (docs/algorithms/blend.md, "Candidate photos"; docs/decisions/0010).
 #pragma once
 
 #include <Eigen/Core>
@@ -18,7 +18,7 @@ namespace hdribr {
 // Unstructured Lumigraph penalty angle(V, V_k) + kUlrDistanceWeight delta_k: of the blend
 // (shaders/blend.comp) and of the candidate photos' votes. Below 1 so that a photo at a
 // different distance from the point but from the view's direction keeps a share of the blend
-// (docs/benchmarks.md, "Blend: the weight of the distance in the penalty").
+// (docs/decisions/0033).
 inline constexpr float kUlrDistanceWeight = 0.3f;
 
 class PhotoCandidates {

@@ -32,7 +32,7 @@ struct PatchMatchOptions {
   float sigma_color = 0.1f;  // bilateral weight: intensity scale ([0, 1] intensities)
   // Pyramid levels (coarse to fine, halving the size). Two by default: with more, the coarse
   // planes, upsampled and held by their geometric guidance, bias small curved objects toward
-  // what surrounds them more than they help weak texture (docs/algorithms.md, "Front end").
+  // what surrounds them more than they help weak texture (docs/decisions/0024).
   int num_levels = 2;
   int coarse_iterations = 4;    // iterations at the coarsest level
   int iterations = 2;           // iterations at each finer level

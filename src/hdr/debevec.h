@@ -16,7 +16,7 @@ double HatWeight(int z);
 // Defaults: the data term grows with the number of samples while the smoothness term does not,
 // so lambda goes with samples. The flat-sample selection, the trimmed refit and the log-code
 // smoothness make the curve robust to misaligned or resampled exposures (their effect is
-// measured in docs/algorithms.md, "HDR: response calibration"); PlainDebevec gives the
+// measured in docs/decisions/0005 and 0008); PlainDebevec gives the
 // published method.
 struct CalibrationOptions {
   double lambda = 60.0;  // smoothness weight (Debevec's lambda)

@@ -33,7 +33,7 @@ struct MultiViewSample {
 struct MultiViewOptions {
   // Smoothness weight of g'' (Debevec's lambda, equation 3). Larger than the aligned-stack
   // default: thousands of points seen by tens of photos give tens of thousands of data
-  // equations per channel (docs/algorithms.md, "Radiometric calibration from the cloud").
+  // equations per channel (docs/decisions/0018).
   double lambda = 600.0;
   // Variable of the smoothness term's second difference, as in CalibrationOptions.
   CalibrationOptions::Smoothness smoothness = CalibrationOptions::Smoothness::kLogCode;

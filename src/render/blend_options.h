@@ -86,13 +86,13 @@ struct BlendOptions {
   BlendMode mode = BlendMode::kBlend;
   PhotoEncoding encoding = PhotoEncoding::kDisplay;
   // Unstructured Lumigraph by default (closer to held-out photos than eq. 5, see
-  // docs/benchmarks.md); kPaper is the paper's blending exactly.
+  // docs/decisions/0004); kPaper is the paper's blending exactly.
   BlendWeights weights = BlendWeights::kUnstructured;
   int k_best = 0;        // 0 = all photos for kPaper (the paper), kDefaultUnstructuredK for ULR
   float lambda = 1e-4f;  // a photo counts when N_p . V_k > lambda (paper eq. 3)
   float occlusion_tolerance = 0.01f;  // |z_k(P) - depth_k| <= tolerance * depth_k passes
   int debug_photo = -1;               // photo index whose weight goes to RenderImages::weight
-  // The plane by default (closer to held-out photos than the sphere alone, docs/benchmarks.md).
+  // The plane by default (closer to held-out photos than the sphere alone, docs/decisions/0038).
   Background background = Background::kPlane;
   // Pixels that no photo shows (past every photo's frame, or a surface no photo sees) take the
   // pull-push interpolation of the pixels around them (FillPass), marked as filled; false
@@ -102,7 +102,7 @@ struct BlendOptions {
   // Filtered blending (Eisemann et al. 2007): relative depth uncertainty along the view's ray
   // over which each blended photo is low-passed; 0 = off.
   float filter = 0.0f;
-  // Catmull-Rom by default (sharper than trilinear, docs/benchmarks.md).
+  // Catmull-Rom by default (sharper than trilinear, docs/decisions/0019).
   PhotoSampling sampling = PhotoSampling::kCubic;
   // Photometric outlier rejection of the ranked photos of 8-bit photos (not with every photo
   // summed, nor for float photos): each weight divided by 1 + (|c_k - m| / outlier_scale)^2,
@@ -110,7 +110,7 @@ struct BlendOptions {
   float outlier_scale = 0.08f;
   // Photo-consistent depth: each pixel takes, of its view depth z and z (1 +- refine_depth), the
   // one where its ranked photos agree best over a 5-ray patch; 0 = off. On by default (closer
-  // to held-out photos on reconstructed clouds, docs/benchmarks.md).
+  // to held-out photos on reconstructed clouds, docs/decisions/0028).
   float refine_depth = 0.003f;
 };
 

@@ -196,7 +196,7 @@ const PointBuffer& DepthPass::PointsFor(double detail) {
   // at least kMinLevelPoints (below that the per-point steps cost little): a pixel meets twice
   // the points of a full-size pixel. No level below every 4th point: every 2nd saves at most half
   // of the per-point steps, and at half size it strays further from the full-size picture than
-  // every point does (docs/benchmarks.md, "Reduced frames: a coarser level of the cloud").
+  // every point does (docs/decisions/0031).
   constexpr size_t kMinStride = 4, kMaxStride = 64, kMinLevelPoints = 16384;
   const double max_stride = detail > 0 && detail < 1 ? 0.5 / (detail * detail) : 1.0;
   size_t stride = 1;

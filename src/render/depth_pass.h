@@ -73,7 +73,7 @@ struct DepthPassOptions {
   float front_rel = 0.005f;
   // Lechelek resolve: silhouette trim window (pixels each side of a pushed foreground pixel),
   // 0 = off. Such a pixel takes a farther surface when the nearest front point centre in the
-  // window lies on it (shaders/resolve.comp, TrimOverhang; docs/algorithms.md).
+  // window lies on it (shaders/resolve.comp, TrimOverhang; docs/algorithms/depth-pass.md).
   int silhouette_trim = 2;
   // Pipeline raster: step 2 in one layered draw when ARB_shader_viewport_layer_array is there
   // (else two draws). The compute raster always fills both layers in one dispatch.

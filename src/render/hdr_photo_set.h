@@ -47,7 +47,7 @@ struct HdrPhotoSetOptions {
   // biases dark pixels next to bright ones upward (+7-11 DN at 2-20 DN on a 200x150 capture)
   // and with it the calibrated dark end; the few nearest photos blur less (response RMS over
   // 10-245 DN, B/G/R, 200x150 capture: 0.022/0.015/0.023 vs 0.032/0.019/0.034 with the paper's
-  // weights; docs/algorithms.md). The paper's weights averaged away more noise, which helped
+  // weights; docs/decisions/0008). The paper's weights averaged away more noise, which helped
   // only on the synthetic camera before its linear toe (read noise over its lowest ~25 codes).
   RendererOptions renderer;
   // Called after each view (index, count), for progress lines.

@@ -23,7 +23,7 @@
 namespace hdribr::render {
 
 // RendererOptions::max_candidates by default: measured to cost no quality
-// (docs/benchmarks.md, "Candidate photos").
+// (docs/decisions/0010).
 inline constexpr int kDefaultMaxCandidates = 16;
 
 struct RendererOptions {

@@ -9,7 +9,7 @@
 namespace hdribr::viewer {
 namespace {
 
-// Every key of the viewer, for the help overlay and docs/usage.md.
+// Every key of the viewer, for the help overlay and docs/usage/view.md.
 constexpr const char* kHelp[][2] = {
     {"left drag", "orbit around the scene centre"},
     {"right drag", "look around (fly mode)"},
