@@ -4,6 +4,8 @@
 #include <unistd.h>
 #include <array>
 #include <cstdio>
+#include <exception>
+#include <system_error>
 
 namespace hdribr::test {
 namespace fs = std::filesystem;
@@ -38,6 +40,48 @@ CommandResult RunCommand(const std::string& command_line) {
   const int status = ::pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
+}
+
+namespace {
+
+fs::path SharedFixturePath(const std::string& name) {
+  return fs::path(HDRIBR_TEST_FIXTURES) / name;
+}
+
+// Makes it in a folder of this process beside its place, then renames that into place; when
+// another process made it meanwhile, its copy is kept and this one removed.
+void MakeSharedFixture(const std::string& name, const FixtureMaker& make) {
+  const fs::path dir = SharedFixturePath(name);
+  const fs::path partial = dir.parent_path() / ("." + name + ".partial" + std::to_string(getpid()));
+  fs::remove_all(partial);
+  fs::create_directories(partial);
+  bool made = false;
+  try {
+    make(partial);
+    made = !::testing::Test::HasFatalFailure() && !::testing::Test::IsSkipped();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "shared fixture " << name << ": " << e.what();
+  }
+  std::error_code ec;
+  if (made) fs::rename(partial, dir, ec);
+  if (!made || ec) fs::remove_all(partial);
+}
+
+}  // namespace
+
+fs::path SharedFixture(const std::string& name, const FixtureMaker& make) {
+  const fs::path dir = SharedFixturePath(name);
+  if (!fs::is_directory(dir)) MakeSharedFixture(name, make);
+  EXPECT_TRUE(fs::is_directory(dir)) << "shared fixture " << name << " could not be made";
+  return dir;
+}
+
+void RemakeSharedFixture(const std::string& name, const FixtureMaker& make) {
+  fs::remove_all(SharedFixturePath(name));
+  MakeSharedFixture(name, make);
+  if (::testing::Test::IsSkipped()) return;
+  EXPECT_TRUE(fs::is_directory(SharedFixturePath(name)))
+      << "shared fixture " << name << " was not made";
 }
 
 }  // namespace hdribr::test

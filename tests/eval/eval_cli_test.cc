@@ -1,5 +1,5 @@
 // `hdribr eval` end to end: leave-one-out and GT novel views on synthetic captures (with the
-// quality targets on the default capture), errors, and monstree after reconstruction.
+// quality targets on the default capture), and errors (monstree: eval_monstree_test.cc).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,7 +9,6 @@
 #include <string>
 
 #include "io/atomic_file.h"
-#include "io/colmap_model.h"
 #include "test_util.h"
 
 namespace hdribr {
@@ -19,13 +18,28 @@ namespace fs = std::filesystem;
 
 std::string Exe() { return HDRIBR_EXE; }
 
-// A fresh capture for the calling test (CTest runs tests in parallel processes: a capture
-// shared between tests would be written by two of them at once).
+// A fresh capture for the calling test.
 fs::path Capture(const std::string& name, const std::string& options) {
   const fs::path dir = test::TempDir("capture_" + name) / "capture";
   const auto r = test::RunCommand(Exe() + " -q synth " + dir.string() + " " + options);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return dir;
+}
+
+// The small capture that two tests read (and write only their outputs beside): the shared
+// fixture EvalSmallCapture, made once per CTest run by its setup test (CMakeLists.txt).
+void WriteSmallCapture(const fs::path& dir) {
+  const auto r = test::RunCommand(Exe() + " -q synth " + (dir / "capture").string() +
+                                  " --series 3 --views 6 --size 240x180 --novel 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+}
+constexpr char kSmallCaptureFixture[] = "EvalSmallCapture";
+fs::path SmallCapture() {
+  return test::SharedFixture(kSmallCaptureFixture, WriteSmallCapture) / "capture";
+}
+
+TEST(Fixture, EvalSmallCapture) {
+  test::RemakeSharedFixture(kSmallCaptureFixture, WriteSmallCapture);
 }
 
 // Mean scores by method from eval.json.
@@ -43,7 +57,7 @@ int CountLines(const std::string& s) {
 }
 
 TEST(EvalCli, SmallCaptureLeaveOneOutAndGroundTruth) {
-  const fs::path cap = Capture("small", "--series 3 --views 6 --size 240x180 --novel 2");
+  const fs::path cap = SmallCapture();
   const fs::path out = test::TempDir("eval_small");
   const auto r = test::RunCommand(Exe() + " -q eval " + (cap / "workspace").string() +
                                   " --leave-one-out --photos s1_v01.jpg s1_v03.jpg --size-scale 1" +
@@ -82,7 +96,7 @@ TEST(EvalCli, SmallCaptureLeaveOneOutAndGroundTruth) {
 }
 
 TEST(EvalCli, BadSelectionsAreOneClearError) {
-  const fs::path cap = Capture("small", "--series 3 --views 6 --size 240x180 --novel 2");
+  const fs::path cap = SmallCapture();
   const std::string ws = (cap / "workspace").string();
   const fs::path out = test::TempDir("eval_bad");
   auto r = test::RunCommand(Exe() + " -q eval " + ws + " --leave-one-out --photos nope.jpg --out " +
@@ -153,34 +167,6 @@ TEST(EvalCli, DefaultCaptureMeetsTheQualityTargets) {
   // paper) do not.
   EXPECT_GE(ours - nearest, 1.0);
   RecordProperty("psnr_gain_over_nearest_db", std::to_string(ours - nearest));
-}
-
-// monstree after `hdribr reconstruct` (resumable: a workspace left by an earlier run in this
-// build tree is reused), leave-one-out over every photo at reduced size: with its several
-// exposures, each photo is rendered in radiance from all the others and re-exposed at its own
-// calibrated exposure (LDR-OE).
-TEST(EvalCli, MonstreeEveryPhotoReExposed) {
-  HDRIBR_REQUIRE_DATASET(monstree, "monstree");
-  const fs::path ws = fs::path(HDRIBR_TEST_TMP) / "eval_monstree_ws";
-  const auto rec = test::RunCommand(Exe() + " -q reconstruct " + (monstree / "images").string() +
-                                    " " + ws.string() + " --image-size 800 --dense-size 300 2>&1");
-  ASSERT_EQ(rec.exit_code, 0) << rec.output;
-  const fs::path out = test::TempDir("eval_monstree");
-  const auto r = test::RunCommand(Exe() + " -q eval " + ws.string() +
-                                  " --leave-one-out --series all --size-scale 0.5 --out " +
-                                  out.string() + " 2>&1");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::cout << r.output << "\n";
-  const nlohmann::json j = nlohmann::json::parse(ReadFileToString(out / "eval.json"));
-  const ColmapModel model = ReadColmapModel(ws / "sparse");
-  EXPECT_EQ(j.at("views").size(), model.images.size());  // no photo skipped
-  auto mean = Means(out / "eval.json");
-  std::cout << "monstree LDR-OE: hdribr " << mean["hdribr"]["psnr_db"] << " dB SSIM "
-            << mean["hdribr"]["ssim"] << ", nearest " << mean["nearest_photo"]["psnr_db"]
-            << " dB SSIM " << mean["nearest_photo"]["ssim"] << "\n";
-  EXPECT_GT(mean["hdribr"]["psnr_db"].get<double>(), 15.0);
-  EXPECT_GT(mean["hdribr"]["ssim"].get<double>(), mean["nearest_photo"]["ssim"].get<double>());
-  EXPECT_GT(mean["hdribr"]["own_coverage"].get<double>(), 0.9);
 }
 
 }  // namespace

@@ -22,18 +22,31 @@ namespace hdribr::render {
 namespace {
 namespace fs = std::filesystem;
 
+// The options of the suite's capture.
+synth::CaptureOptions SuiteCaptureOptions() {
+  synth::CaptureOptions o;
+  o.series = 3;
+  o.views = 5;
+  o.width = 160;
+  o.height = 120;
+  o.novel_views = 1;
+  o.threads = 2;
+  return o;
+}
+void WriteSuiteCapture(const fs::path& dir) {
+  synth::WriteCapture(SuiteCaptureOptions(), dir / "capture");
+}
+constexpr char kCaptureFixture[] = "HdrSetIoCapture";
+
+// The setup of the shared fixture (tests/hdr/CMakeLists.txt): the capture, once per CTest run,
+// which every test of HdrSetIoTest reads.
+TEST(Fixture, HdrSetIoCapture) { test::RemakeSharedFixture(kCaptureFixture, WriteSuiteCapture); }
+
 class HdrSetIoTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(test::TempDir("hdr_set_io") / "capture");
-    options_ = new synth::CaptureOptions();
-    options_->series = 3;
-    options_->views = 5;
-    options_->width = 160;
-    options_->height = 120;
-    options_->novel_views = 1;
-    options_->threads = 2;
-    synth::WriteCapture(*options_, *dir_);
+    dir_ = new fs::path(test::SharedFixture(kCaptureFixture, WriteSuiteCapture) / "capture");
+    options_ = new synth::CaptureOptions(SuiteCaptureOptions());
     scene_ = new Scene(LoadWorkspace(*dir_ / "workspace"));
   }
   static void TearDownTestSuite() {

@@ -33,19 +33,28 @@ double Median(std::vector<double> v) {
   return v.empty() ? INFINITY : v[v.size() / 2];
 }
 
+// The suite's capture, 3 series x 6 views, 200 x 150, in dir/capture.
+void WriteSuiteCapture(const fs::path& dir) {
+  synth::CaptureOptions opt;
+  opt.series = 3;
+  opt.views = 6;
+  opt.width = 200;
+  opt.height = 150;
+  opt.novel_views = 3;
+  opt.threads = 2;
+  synth::WriteCapture(opt, dir / "capture");
+}
+constexpr char kCaptureFixture[] = "HdrSetCapture";
+
+// The setup of the shared fixture (tests/hdr/CMakeLists.txt): the capture, once per CTest run,
+// which every test of HdrSetTest reads.
+TEST(Fixture, HdrSetCapture) { test::RemakeSharedFixture(kCaptureFixture, WriteSuiteCapture); }
+
 class HdrSetTest : public test::GlSuite {
  protected:
   static void SetUpTestSuite() {
     GlSuite::SetUpTestSuite();
-    dir_ = new fs::path(test::TempDir("hdr_set") / "capture");
-    synth::CaptureOptions opt;
-    opt.series = 3;
-    opt.views = 6;
-    opt.width = 200;
-    opt.height = 150;
-    opt.novel_views = 3;
-    opt.threads = 2;
-    synth::WriteCapture(opt, *dir_);
+    dir_ = new fs::path(test::SharedFixture(kCaptureFixture, WriteSuiteCapture) / "capture");
     scene_ = new Scene(LoadWorkspace(*dir_ / "workspace"));
   }
   static void TearDownTestSuite() {

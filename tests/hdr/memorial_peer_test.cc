@@ -49,8 +49,8 @@ TEST(MemorialPeer, RadianceMatchesOpenCv) {
   std::printf("memorial: median |log ratio| vs OpenCV %.4f (with OpenCV's curve: %.4f)\n", err,
               err_merge_only);
   RecordProperty("median_abs_log_ratio", std::to_string(err));
-  // docs/benchmarks.md: 0.043 with the defaults, 0.023 with OpenCV's curve (the remainder is
-  // the curve); the plain method gives 0.070, a single trim round 0.048.
+  // docs/decisions/0005 and 0008: 0.043 with the defaults, 0.023 with OpenCV's curve (the
+  // remainder is the curve); the plain method gives 0.070, a single trim round 0.048.
   EXPECT_LE(err, 0.045);
   EXPECT_LE(err_merge_only, 0.025);
   EXPECT_LT(err_merge_only, err);

@@ -134,7 +134,7 @@ void ExpectFinite(const MultiViewCalibration& r) {
 
 // Options for the generated observations: noise and 8-bit rounding only, without the JPEG and
 // resampling errors of photos, so they want less smoothing than the default (which is set on
-// rendered captures: docs/algorithms.md). The plain solve: no response prior.
+// rendered captures: docs/decisions/0018). The plain solve: no response prior.
 MultiViewOptions CleanData() {
   MultiViewOptions o;
   o.lambda = 60.0;

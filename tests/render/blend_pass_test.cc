@@ -22,19 +22,29 @@
 namespace hdribr::render {
 namespace {
 
+// The suite's capture, 2 series x 6 views, 160 x 120, in dir/capture.
+void WriteSuiteCapture(const std::filesystem::path& dir) {
+  synth::CaptureOptions opt;
+  opt.series = 2;
+  opt.views = 6;
+  opt.width = 160;
+  opt.height = 120;
+  opt.novel_views = 1;
+  opt.threads = 2;
+  synth::WriteCapture(opt, dir / "capture");
+}
+constexpr char kCaptureFixture[] = "BlendPassCapture";
+
+// The setup of the shared fixture (tests/render/CMakeLists.txt): the capture, once per CTest
+// run, which every test of BlendPassTest reads.
+TEST(Fixture, BlendPassCapture) { test::RemakeSharedFixture(kCaptureFixture, WriteSuiteCapture); }
+
 class BlendPassTest : public ::testing::Test {
  protected:
-  // One capture for the whole suite: 2 series x 6 views, 160 x 120.
+  // One capture for the whole suite (read-only), made by the fixture's setup.
   static void SetUpTestSuite() {
-    dir_ = new std::filesystem::path(test::TempDir("blend_pass") / "capture");
-    synth::CaptureOptions opt;
-    opt.series = 2;
-    opt.views = 6;
-    opt.width = 160;
-    opt.height = 120;
-    opt.novel_views = 1;
-    opt.threads = 2;
-    synth::WriteCapture(opt, *dir_);
+    dir_ = new std::filesystem::path(test::SharedFixture(kCaptureFixture, WriteSuiteCapture) /
+                                     "capture");
   }
   static void TearDownTestSuite() {
     delete dir_;
@@ -649,7 +659,7 @@ TEST_F(BlendPassTest, UnstructuredLumigraphWeights) {
   const RenderImages paper = RenderPhotoView(r, 3);
   EXPECT_LT(cv::mean(paper.weight, seen)[0], 0.6);
   // Leave-one-out: the same coverage as the paper's weights (same visibility tests) and a
-  // closer image (docs/benchmarks.md has the figures of the default capture).
+  // closer image (docs/decisions/0004 has the figures of the default capture).
   r.SetActivePhotos(SameSeriesExcept(3));
   r.blend_options().debug_photo = -1;
   const RenderImages paper_loo = RenderPhotoView(r, 3);

@@ -11,18 +11,28 @@
 namespace hdribr {
 namespace {
 
+// The suite's capture, 1 series x 2 views, 160 x 120, in dir/capture.
+void WriteSuiteCapture(const std::filesystem::path& dir) {
+  synth::CaptureOptions opt;
+  opt.series = 1;
+  opt.views = 2;
+  opt.width = 160;
+  opt.height = 120;
+  opt.novel_views = 1;
+  opt.threads = 2;
+  synth::WriteCapture(opt, dir / "capture");
+}
+constexpr char kCaptureFixture[] = "DepthCliCapture";
+
+// The setup of the shared fixture (tests/render/CMakeLists.txt): the capture, once per CTest
+// run, which every test of DepthCliTest reads.
+TEST(Fixture, DepthCliCapture) { test::RemakeSharedFixture(kCaptureFixture, WriteSuiteCapture); }
+
 class DepthCliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::filesystem::path(test::TempDir("depth_cli") / "capture");
-    synth::CaptureOptions opt;
-    opt.series = 1;
-    opt.views = 2;
-    opt.width = 160;
-    opt.height = 120;
-    opt.novel_views = 1;
-    opt.threads = 2;
-    synth::WriteCapture(opt, *dir_);
+    dir_ = new std::filesystem::path(test::SharedFixture(kCaptureFixture, WriteSuiteCapture) /
+                                     "capture");
   }
   static void TearDownTestSuite() { delete dir_; }
   static std::string Exe() { return HDRIBR_EXE; }

@@ -16,6 +16,10 @@
 namespace hdribr {
 namespace {
 
+// The setup of the shared fixture SmallCapture1 (tests/render/CMakeLists.txt), read by every
+// test of RenderCliTest and by the viewer's soak test.
+TEST(Fixture, SmallCapture1) { test::RemakeSmallCaptureFixture(1); }
+
 class RenderCliTest : public test::SmallCaptureTest<1> {};
 
 TEST_F(RenderCliTest, PngAndExrOfAPhotoView) {

@@ -84,7 +84,7 @@ TEST(SynthDepthTest, AccuracyOnSyntheticCapture) {
       // Leakage: at most 0.5 % of the covered pixels show a farther surface.
       EXPECT_LE(scores.input.leakage(), 0.005);
       EXPECT_LE(scores.novel.leakage(), 0.005);
-      // Accuracy with the silhouette trim (docs/algorithms.md, "Measured quality").
+      // Accuracy with the silhouette trim (docs/decisions/0011).
       EXPECT_GE(scores.input.accuracy(), 0.985);
       EXPECT_GE(scores.novel.accuracy(), 0.978);
     }

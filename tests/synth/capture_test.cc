@@ -37,11 +37,24 @@ CaptureOptions SmallOptions() {
   return o;
 }
 
+// The capture of the suite Capture, in dir/capture, and WriteCapture's summary of it in
+// dir/summary.txt ("photos novel").
+void WriteSuiteCapture(const fs::path& dir) {
+  const CaptureSummary summary = WriteCapture(SmallOptions(), dir / "capture");
+  std::ofstream(dir / "summary.txt") << summary.photos << " " << summary.novel << "\n";
+}
+constexpr char kCaptureFixture[] = "SynthCapture";
+
+// The setup of the shared fixture (tests/synth/CMakeLists.txt): the capture, once per CTest
+// run, which every test of Capture reads.
+TEST(Fixture, SynthCapture) { test::RemakeSharedFixture(kCaptureFixture, WriteSuiteCapture); }
+
 class Capture : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = test::TempDir("synth_capture_fixture") / "capture";
-    summary_ = WriteCapture(SmallOptions(), dir_);
+    const fs::path fixture = test::SharedFixture(kCaptureFixture, WriteSuiteCapture);
+    dir_ = fixture / "capture";
+    std::ifstream(fixture / "summary.txt") >> summary_.photos >> summary_.novel;
     model_ = ReadColmapModelText(dir_ / "gt");
     points_ = ReadPly(dir_ / "gt/points.ply");
   }
@@ -93,10 +106,9 @@ TEST_F(Capture, WritesEveryFile) {
   }
   EXPECT_TRUE(fs::exists(dir_ / "calib/response.json"));
   EXPECT_TRUE(fs::exists(dir_ / "gt/capture.json"));
-  // No temporary folder left beside the output.
+  // No temporary folder (.capture.partial-PID) left beside the output.
   for (const auto& e : fs::directory_iterator(dir_.parent_path())) {
-    EXPECT_EQ(e.path().filename().string().find(".synth_capture_fixture.partial"),
-              std::string::npos);
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
   }
 }
 

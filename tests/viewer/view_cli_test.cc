@@ -23,6 +23,10 @@ cv::Mat ReadPng(const std::filesystem::path& path) {
   return m;
 }
 
+// The setup of the shared fixture SmallCapture2 (tests/viewer/CMakeLists.txt), read by every
+// test of ViewCliTest.
+TEST(Fixture, SmallCapture2) { test::RemakeSmallCaptureFixture(2); }
+
 class ViewCliTest : public test::SmallCaptureTest<2> {
  protected:
   void SetUp() override {
