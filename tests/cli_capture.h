@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string>
 
-#include "synth/capture.h"
+#include "test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::test {
@@ -21,14 +21,7 @@ inline constexpr int kSmallCaptureHeight = 96;
 
 // A 128x96 capture of `series` exposure series x 4 views and one novel view, into `dir`.
 inline void WriteSmallCaptureTo(const std::filesystem::path& dir, int series) {
-  synth::CaptureOptions opt;
-  opt.series = series;
-  opt.views = 4;
-  opt.width = kSmallCaptureWidth;
-  opt.height = kSmallCaptureHeight;
-  opt.novel_views = 1;
-  opt.threads = 2;
-  synth::WriteCapture(opt, dir);
+  WriteTestCapture(dir, {series, 4, kSmallCaptureWidth, kSmallCaptureHeight, 1});
 }
 
 // ... in a fresh TempDir(tag), for a test that writes into it; returns its folder (the

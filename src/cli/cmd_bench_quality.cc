@@ -121,10 +121,10 @@ double ReadNumber(const fs::path& path, const char* key) {
 
 // Median wall time of the render at 512x512 from the first photo's viewpoint: one warm-up
 // frame, then 3 timed frames (each read back, so the GPU has finished).
-double FrameMs(const fs::path& workspace, const ParsedRenderArgs& args, std::string* gl_renderer) {
+double FrameMs(const Scene& scene, const fs::path& workspace, const ParsedRenderArgs& args,
+               std::string* gl_renderer) {
   render::RendererOptions ro = args.options;
   ro.depth_cache_dir = WorkspaceDepthCache(workspace, args.no_depth_cache);
-  const Scene scene = LoadWorkspace(workspace);
   if (scene.photos.empty()) throw InputError(workspace, "the workspace has no photos");
   gl::HeadlessContext context;
   *gl_renderer = context.Renderer();
@@ -220,7 +220,7 @@ class SuiteRunner {
     // Measured on every run (seconds), so that a run of finished captures on an idle machine
     // times every frame alike.
     Stage(c, "frame cost");
-    f.frame_ms = FrameMs(ws, parsed_, &gl_renderer_);
+    f.frame_ms = FrameMs(scene, ws, parsed_, &gl_renderer_);
     WriteFileAtomic(tag / "figures.json", eval::FiguresToJson(f).dump(2) + "\n");
     return f;
   }

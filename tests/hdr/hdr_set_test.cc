@@ -19,7 +19,7 @@
 #include "io/exr.h"
 #include "io/workspace.h"
 #include "render/hdr_render.h"
-#include "synth/capture.h"
+#include "test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::render {
@@ -35,14 +35,7 @@ double Median(std::vector<double> v) {
 
 // The suite's capture, 3 series x 6 views, 200 x 150, in dir/capture.
 void WriteSuiteCapture(const fs::path& dir) {
-  synth::CaptureOptions opt;
-  opt.series = 3;
-  opt.views = 6;
-  opt.width = 200;
-  opt.height = 150;
-  opt.novel_views = 3;
-  opt.threads = 2;
-  synth::WriteCapture(opt, dir / "capture");
+  test::WriteTestCapture(dir / "capture", {3, 6, 200, 150, 3});
 }
 constexpr char kCaptureFixture[] = "HdrSetCapture";
 

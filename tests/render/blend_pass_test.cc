@@ -16,7 +16,7 @@
 #include "io/workspace.h"
 #include "render/blend_pass.h"
 #include "render/renderer.h"
-#include "synth/capture.h"
+#include "test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::render {
@@ -24,14 +24,7 @@ namespace {
 
 // The suite's capture, 2 series x 6 views, 160 x 120, in dir/capture.
 void WriteSuiteCapture(const std::filesystem::path& dir) {
-  synth::CaptureOptions opt;
-  opt.series = 2;
-  opt.views = 6;
-  opt.width = 160;
-  opt.height = 120;
-  opt.novel_views = 1;
-  opt.threads = 2;
-  synth::WriteCapture(opt, dir / "capture");
+  test::WriteTestCapture(dir / "capture", {2, 6, 160, 120, 1});
 }
 constexpr char kCaptureFixture[] = "BlendPassCapture";
 

@@ -5,7 +5,7 @@
 
 #include "io/exr.h"
 #include "io/image.h"
-#include "synth/capture.h"
+#include "test_capture.h"
 #include "test_util.h"
 
 namespace hdribr {
@@ -13,14 +13,7 @@ namespace {
 
 // The suite's capture, 1 series x 2 views, 160 x 120, in dir/capture.
 void WriteSuiteCapture(const std::filesystem::path& dir) {
-  synth::CaptureOptions opt;
-  opt.series = 1;
-  opt.views = 2;
-  opt.width = 160;
-  opt.height = 120;
-  opt.novel_views = 1;
-  opt.threads = 2;
-  synth::WriteCapture(opt, dir / "capture");
+  test::WriteTestCapture(dir / "capture", {1, 2, 160, 120, 1});
 }
 constexpr char kCaptureFixture[] = "DepthCliCapture";
 
