@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -40,9 +41,17 @@ struct BenchRenderOptions {
   // GPU memory budgets, MiB (0 = the device's: every photo resident on a large GPU).
   std::string gpu_memory = "0";
   int silhouette_trim = render::DepthPassOptions{}.silhouette_trim;
-  float refine_depth = render::BlendOptions{}.refine_depth;
+  render::BlendOptions blend;  // every blend option but K (the list above)
   std::string json;
 };
+
+// CPU seconds of every thread of the process (llvmpipe's rasteriser threads included): on a
+// shared machine a frame's CPU time varies far less than its wall time.
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 std::vector<double> ParseBudgets(const std::string& s) {
   std::vector<double> out;
@@ -107,8 +116,7 @@ Scene MakeScene(int count, int pw, int ph, const PointCloud& cloud, std::vector<
 int Run(const BenchRenderOptions& opt) {
   if (opt.frames < 1) throw UsageError("--frames must be >= 1");
   if (opt.points <= 0) throw UsageError("--points must be positive");
-  render::BlendOptions blend;
-  blend.refine_depth = opt.refine_depth;
+  const render::BlendOptions& blend = opt.blend;
   CheckBlendOptions(blend);
   std::vector<std::pair<int, int>> sizes;
   for (const auto& s : SplitList(opt.sizes)) {
@@ -128,9 +136,10 @@ int Run(const BenchRenderOptions& opt) {
   const Rigid3d cam_from_world = LookAt({2.5, -2.2, -3.0}, {0, -0.3, 0}, {0, -1, 0});
   nlohmann::json results = nlohmann::json::array();
   FILE* table = TableStream(opt.json);
-  std::fprintf(table, "%-10s %6s %5s %5s %5s %7s %10s %10s %8s %10s %10s %10s %8s %8s %15s %8s\n",
-               "size", "photos", "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "fill_ms",
-               "total_ms", "first_ms", "wall_ms", "valid%", "psnr_all", "resident/MiB", "psnr_res");
+  std::fprintf(
+      table, "%-10s %6s %5s %5s %5s %7s %10s %10s %8s %10s %10s %10s %10s %8s %8s %15s %8s\n",
+      "size", "photos", "K", "cap", "used", "sel_ms", "depth_ms", "blend_ms", "fill_ms", "total_ms",
+      "first_ms", "wall_ms", "cpu_ms", "valid%", "psnr_all", "resident/MiB", "psnr_res");
   // Per photo count, size, K and cap: the colour of the render with every photo resident, to
   // which a cached budget's render is compared (PSNR, 8-bit scale; "same" when identical).
   std::map<std::tuple<int, int, int, int, int>, cv::Mat> all_resident;
@@ -168,6 +177,7 @@ int Run(const BenchRenderOptions& opt) {
                     .count();
             double depth_ms = 0, blend_ms = 0, fill_ms = 0, select_ms = 0, used = 0;
             const auto t0 = std::chrono::steady_clock::now();
+            const double cpu0 = ProcessCpuSeconds();
             for (int i = 0; i < opt.frames; ++i) {
               renderer.Render(cam, cam_from_world, target);
               depth_ms += renderer.last_times().depth_ms / opt.frames;
@@ -176,6 +186,8 @@ int Run(const BenchRenderOptions& opt) {
               select_ms += renderer.last_candidates().select_ms / opt.frames;
               used += static_cast<double>(renderer.last_candidates().photos.size()) / opt.frames;
             }
+            glFinish();
+            const double cpu_ms = 1000.0 * (ProcessCpuSeconds() - cpu0) / opt.frames;
             const double wall_ms =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                     .count() /
@@ -212,21 +224,25 @@ int Run(const BenchRenderOptions& opt) {
             char resident_text[48];
             std::snprintf(resident_text, sizeof(resident_text), "%.1f/%.1f",
                           res.resident_bytes / 1048576.0, res.total_bytes / 1048576.0);
-            std::fprintf(
-                table,
-                "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %8.1f %10.1f %10.1f %10.1f %8.1f %8s "
-                "%15s %8s\n",
-                size_text, count, k == 0 || k >= count ? "all" : std::to_string(k).c_str(),
-                cap == 0 ? "all" : std::to_string(cap).c_str(), used, select_ms, depth_ms, blend_ms,
-                fill_ms, depth_ms + blend_ms + fill_ms, first_ms, wall_ms, valid, psnr_text,
-                resident_text, diff_text);
+            std::fprintf(table,
+                         "%-10s %6d %5s %5s %5.1f %7.2f %10.1f %10.1f %8.1f %10.1f %10.1f %10.1f "
+                         "%10.1f %8.1f %8s "
+                         "%15s %8s\n",
+                         size_text, count, k == 0 || k >= count ? "all" : std::to_string(k).c_str(),
+                         cap == 0 ? "all" : std::to_string(cap).c_str(), used, select_ms, depth_ms,
+                         blend_ms, fill_ms, depth_ms + blend_ms + fill_ms, first_ms, wall_ms,
+                         cpu_ms, valid, psnr_text, resident_text, diff_text);
             std::fflush(table);
             results.push_back(
                 {{"width", w},
                  {"height", h},
                  {"photos", count},
                  {"k_best", k >= count ? 0 : k},
-                 {"refine_depth", opt.refine_depth},
+                 {"refine_depth", blend.refine_depth},
+                 {"sampling", render::PhotoSamplingName(blend.sampling)},
+                 {"outlier_scale", blend.outlier_scale},
+                 {"background", render::BackgroundName(blend.background)},
+                 {"fill", blend.fill},
                  {"max_candidates", cap},
                  {"candidates_per_frame", used},
                  {"candidates_ms", select_ms},
@@ -237,6 +253,7 @@ int Run(const BenchRenderOptions& opt) {
                  {"blend_ms", blend_ms},
                  {"fill_ms", fill_ms},
                  {"wall_ms", wall_ms},
+                 {"cpu_ms", cpu_ms},
                  {"valid_percent", valid},
                  {"mean_photos_per_pixel", mean_count},
                  {"psnr_vs_all_photos", psnr_all < 0 ? nlohmann::json() : nlohmann::json(psnr_all)},
@@ -263,7 +280,9 @@ int Run(const BenchRenderOptions& opt) {
   const nlohmann::json doc = {{"benchmark", "render"},
                               {"renderer", context.Renderer()},
                               {"egl_platform", context.platform()},
-                              {"note", "GPU times from GL timestamp queries; wall = CPU clock"},
+                              {"note",
+                               "GPU times from GL timestamp queries; wall = CPU clock; cpu = CPU "
+                               "time of every thread of the process"},
                               {"results", results}};
   EmitJson(opt.json, doc);
   return 0;
@@ -297,7 +316,7 @@ CommandRunner SetupBenchRender(CLI::App& sub) {
                  "photos' size caches them)")
       ->default_val(opt->gpu_memory);
   AddSilhouetteTrimOption(sub, opt->silhouette_trim);
-  AddRefineDepthOption(sub, opt->refine_depth);
+  AddBlendOptions(sub, opt->blend);
   sub.add_option("--json", opt->json, "Write the JSON here instead of stdout")
       ->check(OutputFolderCheck());
   return [opt] { return RunNamingFlags(RendererFlags(), [&] { return Run(*opt); }); };

@@ -42,10 +42,14 @@ void AddBlendOptions(CLI::App& app, render::BlendOptions& blend) {
       ->transform(NamesTo(
           NameMap<render::BlendWeights>(render::kAllBlendWeights, render::BlendWeightsName)))
       ->default_str(render::BlendWeightsName(blend.weights));
-  app.add_option("--k-best", blend.k_best,
-                 "K best photos per pixel (0: " + std::to_string(render::kDefaultUnstructuredK) +
-                     " for ulr, all for paper; at most " + std::to_string(render::kMaxKBest) + ")")
-      ->capture_default_str();
+  // A subcommand that binds its own --k-best (bench render's list) keeps it.
+  if (app.get_option_no_throw("--k-best") == nullptr) {
+    app.add_option("--k-best", blend.k_best,
+                   "K best photos per pixel (0: " + std::to_string(render::kDefaultUnstructuredK) +
+                       " for ulr, all for paper; at most " + std::to_string(render::kMaxKBest) +
+                       ")")
+        ->capture_default_str();
+  }
   app.add_option("--lambda", blend.lambda, "Grazing-angle threshold on N . V_k, in [0, 1)")
       ->capture_default_str();
   app.add_option("--tolerance", blend.occlusion_tolerance,

@@ -25,8 +25,8 @@ CLI::Option* AddSilhouetteTrimOption(CLI::App& app, int& pixels);
 // --raster NAME into `raster` (names from render::PointRasterName).
 CLI::Option* AddPointRasterOption(CLI::App& app, render::PointRaster& raster);
 // --weights, --k-best, --lambda, --tolerance, --background, --fill/--no-fill, --visibility,
-// --filter, --sampling, --outlier-scale, --refine-depth into `blend`; CheckBlendOptions
-// validates them.
+// --filter, --sampling, --outlier-scale, --refine-depth into `blend` (--k-best only where `app`
+// has none yet); CheckBlendOptions validates them.
 void AddBlendOptions(CLI::App& app, render::BlendOptions& blend);
 // --refine-depth into `refine_depth` (render::BlendOptions::refine_depth, 0 = off).
 CLI::Option* AddRefineDepthOption(CLI::App& app, float& refine_depth);

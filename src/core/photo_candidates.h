@@ -16,7 +16,7 @@ namespace hdribr {
 
 // Weight of delta_k (LEC19 eq. 4, scene-scale units) against the angle (radians) in the
 // Unstructured Lumigraph penalty angle(V, V_k) + kUlrDistanceWeight delta_k: of the blend
-// (shaders/blend.comp) and of the candidate photos' votes. Below 1 so that a photo at a
+// (shaders/blend_visibility.glsl) and of the candidate photos' votes. Below 1 so that a photo at a
 // different distance from the point but from the view's direction keeps a share of the blend
 // (docs/decisions/0033).
 inline constexpr float kUlrDistanceWeight = 0.3f;

@@ -30,7 +30,7 @@ BlendWeights ParseBlendWeights(const std::string& name);
 
 // K of BlendWeights::kUnstructured when BlendOptions::k_best is 0.
 inline constexpr int kDefaultUnstructuredK = 4;
-// Largest K of BlendOptions::k_best handled per pixel (KEEP - 1 in shaders/blend.comp).
+// Largest K of BlendOptions::k_best handled per pixel (KEEP - 1 in shaders/blend_common.glsl).
 inline constexpr int kMaxKBest = 32;
 
 // Largest BlendOptions::filter: a depth uncertainty of +-50 %.
@@ -40,7 +40,7 @@ inline constexpr float kMaxRefineDepth = 0.05f;
 
 // What the blend shows where the depth pass found no point (sky, distant ground, gaps).
 // Either surface is seen by a photo where the photo's own depth map has no point either.
-// The values are BACKGROUND of shaders/blend.comp.
+// The values are BACKGROUND of shaders/blend_holes.glsl.
 enum class Background {
   kNone = 0,      // nothing: only the photos' surfaces along the ray, else the pixel stays invalid
   kInfinity = 1,  // a surface at infinity: each photo's pixel in the ray's direction

@@ -11,7 +11,12 @@
 namespace hdribr::render {
 namespace {
 
-// std430 mirror of PhotoGpu in shaders/blend.comp.
+// The program for the pixels with a point, and the one for the pixels without (the
+// background and the holes of the view's depth).
+constexpr const char* kSurfaceProgram = "blend.comp";
+constexpr const char* kBackgroundProgram = "blend_background.comp";
+
+// std430 mirror of PhotoGpu in shaders/blend_common.glsl.
 struct PhotoGpu {
   float cam_from_world[16];
   float intrinsics[4];
@@ -41,19 +46,19 @@ bool RefinesDepth(const BlendOptions& options, bool sum_all) {
   return options.mode != BlendMode::kNearestPhoto && !sum_all && options.refine_depth > 0.0f;
 }
 
-// The modes compiled into a blend program (the defines of shaders/blend.comp): `keep` entries in
-// the per-pixel list, `sum_all` for eq. 5 over every photo, `tiers` the slot sizes of the
-// PhotoCache holding the photos (0: none), `cached_depth` when it holds their depth maps,
-// `float_photos` for RGBA16F photos.
-gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, int tiers,
-                         bool cached_depth, bool float_photos) {
+// The modes compiled into a blend program (the defines of shaders/blend_common.glsl): `keep`
+// entries in the per-pixel list, `sum_all` for eq. 5 over every photo, `tiers` the slot sizes of
+// the PhotoCache holding the photos (0: none), `cached_depth` when it holds their depth maps,
+// `float_photos` for RGBA16F photos; the background only for kBackgroundProgram, the one
+// program that draws it.
+gl::Defines ProgramModes(const char* file, const BlendOptions& options, int keep, bool sum_all,
+                         int tiers, bool cached_depth, bool float_photos) {
   const bool nearest = options.mode == BlendMode::kNearestPhoto;
   gl::Defines modes = {{"KEEP", std::to_string(keep)},
                        {"ENCODING", options.encoding == PhotoEncoding::kRadiance ? "1" : "0"},
                        {"NEAREST", nearest ? "1" : "0"},
                        {"ULR", options.weights == BlendWeights::kUnstructured ? "1" : "0"},
                        {"SUM_ALL", sum_all ? "1" : "0"},
-                       {"BACKGROUND", std::to_string(static_cast<int>(options.background))},
                        {"SOFT_VISIBILITY", options.visibility == Visibility::kSoft ? "1" : "0"},
                        {"CACHED", tiers > 0 ? "1" : "0"},
                        {"TIERS", std::to_string(std::max(tiers, 1))},
@@ -62,8 +67,30 @@ gl::Defines ProgramModes(const BlendOptions& options, int keep, bool sum_all, in
                        {"OUTLIER", RejectsOutliers(options, sum_all, float_photos) ? "1" : "0"},
                        {"REFINE", RefinesDepth(options, sum_all) ? "1" : "0"},
                        {"DELTA_WEIGHT", std::to_string(kUlrDistanceWeight)}};
+  if (std::string(file) == kBackgroundProgram) {
+    modes.emplace_back("BACKGROUND", std::to_string(static_cast<int>(options.background)));
+  }
   if (Filtered(options)) modes.emplace_back("FILTERED", "1");
   return modes;
+}
+
+// The per-pixel list's length for `options` with `active` photos, and whether eq. 5 sums every
+// photo instead of ranking them.
+std::pair<int, bool> ListFor(const BlendOptions& options, int active) {
+  const bool ulr = options.weights == BlendWeights::kUnstructured;
+  int k_best = options.k_best;
+  if (ulr) {
+    // K >= the active photos: every photo, thresholded at the cosine horizon (shader).
+    if (k_best == 0) k_best = kDefaultUnstructuredK;
+    k_best = std::min({k_best, std::max(active, 1), kMaxKBest});
+  } else if (!BlendRanksPhotos(options, active)) {
+    k_best = 0;  // K >= the active photos is all of them (exactly)
+  }
+  // K + 1 entries for the Unstructured Lumigraph, K for the paper's K best (1, unused, when
+  // every photo is blended).
+  const bool nearest = options.mode == BlendMode::kNearestPhoto;
+  const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
+  return {keep, k_best <= 0 && !(ulr && !nearest)};
 }
 
 }  // namespace
@@ -86,15 +113,67 @@ Eigen::Vector4d BackgroundSphere(const Scene& scene) {
   return {scene.centroid.x(), scene.centroid.y(), scene.centroid.z(), radius};
 }
 
-BlendPass::BlendPass(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
+BlendPass::BlendPass(const gl::ShaderLibrary& shaders)
+    : shaders_(shaders), params_buffer_(sizeof(BlendParamsGpu), nullptr, GL_DYNAMIC_STORAGE_BIT) {
   // The default's, so that compile errors show early.
-  ProgramFor(ProgramModes(BlendOptions(), kDefaultUnstructuredK + 1, false, 0, false, false));
+  for (const char* file : {kSurfaceProgram, kBackgroundProgram}) {
+    ProgramFor(file, ProgramModes(file, BlendOptions(), kDefaultUnstructuredK + 1, false, 0, false,
+                                  false));
+  }
 }
 
-const gl::Program& BlendPass::ProgramFor(const gl::Defines& modes) const {
-  auto it = programs_.find(modes);
-  if (it == programs_.end())
-    it = programs_.emplace(modes, shaders_.Build({"blend.comp"}, modes)).first;
+std::vector<std::pair<std::string, gl::Defines>> BlendPass::ReachablePrograms() {
+  // Each option's values with the others at their defaults, with 20 photos in memory (where
+  // every option reaches its modes), then the modes of the photo cache and of float photos.
+  std::vector<BlendOptions> variants(1);
+  const auto vary = [&](auto set) {
+    BlendOptions o;
+    set(o);
+    variants.push_back(o);
+  };
+  vary([](BlendOptions& o) { o.mode = BlendMode::kNearestPhoto; });
+  vary([](BlendOptions& o) { o.encoding = PhotoEncoding::kRadiance; });
+  vary([](BlendOptions& o) { o.weights = BlendWeights::kPaper; });
+  vary([](BlendOptions& o) {
+    o.weights = BlendWeights::kPaper;
+    o.k_best = kDefaultUnstructuredK;
+  });
+  vary([](BlendOptions& o) { o.k_best = kMaxKBest; });
+  for (Background b : kAllBackgrounds) vary([b](BlendOptions& o) { o.background = b; });
+  vary([](BlendOptions& o) { o.visibility = Visibility::kSoft; });
+  vary([](BlendOptions& o) { o.filter = kMaxFilter; });
+  for (PhotoSampling p : kAllPhotoSamplings) vary([p](BlendOptions& o) { o.sampling = p; });
+  vary([](BlendOptions& o) { o.outlier_scale = 0.0f; });
+  vary([](BlendOptions& o) { o.refine_depth = 0.0f; });
+  struct Memory {
+    int tiers;
+    bool cached_depth, float_photos;
+  };
+  const Memory kMemories[] = {
+      {0, false, true}, {1, false, false}, {2, false, false}, {3, true, false}};
+  std::vector<std::pair<std::string, gl::Defines>> out;
+  const auto add = [&](const char* file, const gl::Defines& modes) {
+    std::pair<std::string, gl::Defines> program(file, modes);
+    if (std::find(out.begin(), out.end(), program) == out.end()) out.push_back(program);
+  };
+  for (const char* file : {kSurfaceProgram, kBackgroundProgram}) {
+    for (const BlendOptions& o : variants) {
+      const auto [keep, sum_all] = ListFor(o, 20);
+      add(file, ProgramModes(file, o, keep, sum_all, 0, false, false));
+    }
+    const auto [keep, sum_all] = ListFor(BlendOptions(), 20);
+    for (const Memory& m : kMemories) {
+      add(file, ProgramModes(file, BlendOptions(), keep, sum_all, m.tiers, m.cached_depth,
+                             m.float_photos));
+    }
+  }
+  return out;
+}
+
+const gl::Program& BlendPass::ProgramFor(const char* file, const gl::Defines& modes) const {
+  auto key = std::make_pair(std::string(file), modes);
+  auto it = programs_.find(key);
+  if (it == programs_.end()) it = programs_.emplace(key, shaders_.Build({file}, modes)).first;
   return it->second;
 }
 
@@ -165,20 +244,21 @@ void BlendPass::SetPhotos(const Scene& scene, const PhotoLayout& textures, GLuin
   depth_maps_ = cached_depth_ ? cache->depth_texture() : depth_maps.depth().id();
   photo_count_ = static_cast<int>(scene.photos.size());
   float_photos_ = textures.is_float;
-  photo_texels_[0] = static_cast<float>(textures.width);
-  photo_texels_[1] = static_cast<float>(textures.height);
-  inv_scene_scale_ = scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
+  params_.photo_texels[0] = static_cast<float>(textures.width);
+  params_.photo_texels[1] = static_cast<float>(textures.height);
+  params_.inv_scene_scale =
+      scene.scene_scale > 0 ? static_cast<float>(1.0 / scene.scene_scale) : 1.0f;
   const Eigen::Vector4d sphere = BackgroundSphere(scene);
-  for (int k = 0; k < 4; ++k) sphere_[k] = static_cast<float>(sphere[k]);
+  for (int k = 0; k < 4; ++k) params_.sphere[k] = static_cast<float>(sphere[k]);
   // Without a dominant plane the zero normal never meets a ray: the sphere alone.
   const DominantPlane plane = FindDominantPlane(scene);
   for (int k = 0; k < 3; ++k) {
-    plane_[k] = plane.valid() ? static_cast<float>(plane.normal[k]) : 0.0f;
-    plane_u_[k] = static_cast<float>(plane.axis_u[k]);
-    plane_v_[k] = static_cast<float>(plane.axis_v[k]);
+    params_.plane[k] = plane.valid() ? static_cast<float>(plane.normal[k]) : 0.0f;
+    params_.plane_u[k] = static_cast<float>(plane.axis_u[k]);
+    params_.plane_v[k] = static_cast<float>(plane.axis_v[k]);
   }
-  plane_[3] = static_cast<float>(plane.offset);
-  for (int k = 0; k < 4; ++k) plane_extent_[k] = static_cast<float>(plane.extent[k]);
+  params_.plane[3] = static_cast<float>(plane.offset);
+  for (int k = 0; k < 4; ++k) params_.plane_extent[k] = static_cast<float>(plane.extent[k]);
   std::vector<int> all(scene.photos.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   SetActive(all);
@@ -205,48 +285,26 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
     throw UsageError("radiance blending needs a response curve (RendererOptions::response)");
   }
   HDRIBR_CHECK_MSG(BlendOptionProblems(options).empty(), "blend options not validated");
-  const bool ulr = options.weights == BlendWeights::kUnstructured;
-  int k_best = options.k_best;
-  if (ulr) {
-    // K >= the active photos: every photo, thresholded at the cosine horizon (shader).
-    if (k_best == 0) k_best = kDefaultUnstructuredK;
-    k_best = std::min({k_best, std::max(active_count_, 1), kMaxKBest});
-  } else if (!BlendRanksPhotos(options, active_count_)) {
-    k_best = 0;  // K >= the active photos is all of them (exactly)
-  }
-  // The per-pixel list: K + 1 entries for the Unstructured Lumigraph, K for the paper's K best
-  // (1, unused, when every photo is blended).
-  const bool nearest = options.mode == BlendMode::kNearestPhoto;
-  const int keep = ulr && !nearest ? k_best + 1 : std::max(k_best, 1);
-  const bool sum_all = k_best <= 0 && !(ulr && !nearest);
-  const gl::Program& program = ProgramFor(ProgramModes(
-      options, keep, sum_all, cache_ ? cache_->tiers() : 0, cached_depth_, float_photos_));
-  const GLuint p = program.id();
+  const auto [keep, sum_all] = ListFor(options, active_count_);
+  BlendParamsGpu params = params_;
   const Eigen::Matrix4f wfc = cam_from_world.Inverse().Matrix4().cast<float>();
-  glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, wfc.data());
-  const float intr[4] = {static_cast<float>(camera.fx()), static_cast<float>(camera.fy()),
-                         static_cast<float>(camera.cx()), static_cast<float>(camera.cy())};
-  glProgramUniform4fv(p, 1, 1, intr);
-  glProgramUniform2i(p, 2, depth.width(), depth.height());
-  glProgramUniform1i(p, 3, active_count_);
-  glProgramUniform1f(p, 5, options.lambda);
-  glProgramUniform1f(p, 6, options.occlusion_tolerance);
-  glProgramUniform1f(p, 7, inv_scene_scale_);
-  glProgramUniform1i(p, 8, options.debug_photo);
-  glProgramUniform4fv(p, 13, 1, sphere_);
-  if (options.background == Background::kPlane) {
-    glProgramUniform4fv(p, 21, 1, plane_);
-    glProgramUniform3fv(p, 22, 1, plane_u_);
-    glProgramUniform3fv(p, 23, 1, plane_v_);
-    glProgramUniform4fv(p, 24, 1, plane_extent_);
-  }
-  if (options.sampling == PhotoSampling::kCubic) glProgramUniform2fv(p, 19, 1, photo_texels_);
-  if (Filtered(options)) glProgramUniform1f(p, 17, options.filter);
-  if (RejectsOutliers(options, sum_all, float_photos_))
-    glProgramUniform1f(p, 18, options.outlier_scale);
-  if (RefinesDepth(options, sum_all)) glProgramUniform1f(p, 20, options.refine_depth);
+  std::copy(wfc.data(), wfc.data() + 16, params.world_from_cam);
+  params.intrinsics[0] = static_cast<float>(camera.fx());
+  params.intrinsics[1] = static_cast<float>(camera.fy());
+  params.intrinsics[2] = static_cast<float>(camera.cx());
+  params.intrinsics[3] = static_cast<float>(camera.cy());
+  params.size[0] = depth.width();
+  params.size[1] = depth.height();
+  params.active_count = active_count_;
+  params.lambda = options.lambda;
+  params.tolerance = options.occlusion_tolerance;
+  params.debug_photo = options.debug_photo;
+  params.filter = options.filter;
+  params.outlier_scale = options.outlier_scale;
+  params.refine = options.refine_depth;
+  glNamedBufferSubData(params_buffer_.id(), 0, sizeof(params), &params);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  program.Use();
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, params_buffer_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, photos_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, cache_ ? cache_->slot_map() : active_.id());
@@ -263,8 +321,27 @@ void BlendPass::Process(const Camera& camera, const Rigid3d& cam_from_world,
   glBindTextureUnit(7, cache_ ? cache_->tier_texture(2) : 0);
   glBindImageTexture(0, color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   glBindImageTexture(1, aux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  // The pixels with a point, which lists the others in holes_ (and their dispatch's size),
+  // then those.
+  const size_t holes_bytes = 16 + 4 * static_cast<size_t>(depth.width()) * depth.height();
+  if (holes_.size() < holes_bytes)
+    holes_ = gl::Buffer(holes_bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  const GLuint empty_list[4] = {0, 1, 1, 0};  // groups x, y, z; pixels listed
+  glNamedBufferSubData(holes_.id(), 0, sizeof(empty_list), empty_list);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, holes_.id());
+  const int tiers = cache_ ? cache_->tiers() : 0;
+  ProgramFor(kSurfaceProgram, ProgramModes(kSurfaceProgram, options, keep, sum_all, tiers,
+                                           cached_depth_, float_photos_))
+      .Use();
   glDispatchCompute(static_cast<GLuint>((depth.width() + 7) / 8),
                     static_cast<GLuint>((depth.height() + 7) / 8), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  ProgramFor(kBackgroundProgram, ProgramModes(kBackgroundProgram, options, keep, sum_all, tiers,
+                                              cached_depth_, float_photos_))
+      .Use();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, holes_.id());
+  glDispatchComputeIndirect(0);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
 }
 

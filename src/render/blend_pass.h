@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "core/camera.h"
@@ -12,6 +14,7 @@
 #include "gl/objects.h"
 #include "gl/shader_library.h"
 #include "render/blend_options.h"
+#include "render/blend_params.h"
 #include "render/depth_pass.h"
 #include "render/photo_cache.h"
 #include "render/photo_depth_maps.h"
@@ -40,6 +43,11 @@ class BlendPass {
   void SetActive(const std::vector<int>& photo_indices);
   int active_count() const { return active_count_; }
 
+  // Every program (shader file, modes) that an option can reach: each option's values with the
+  // others at their defaults, and the photo cache's and HDR photo sets' modes (for the shader
+  // portability test; the passes build theirs on first use).
+  static std::vector<std::pair<std::string, gl::Defines>> ReachablePrograms();
+
   // Blends into color (RGBA32F: rgb value, a validity) and aux (RGBA32F: r count, g the debug
   // photo's normalised weight). `camera` has the target's size. response: 256 x 1 RGB32F
   // texture of g(Z), needed by PhotoEncoding::kRadiance.
@@ -50,12 +58,17 @@ class BlendPass {
  private:
   void SetPhotos(const Scene& scene, const PhotoLayout& layout, GLuint texture,
                  const PhotoDepthMaps& depth_maps, const PhotoCache* cache);
-  // The program compiled with `modes` (the defines of shaders/blend.comp: the length of the
-  // per-pixel list, the weights, encoding, background, ...), built on first use.
-  const gl::Program& ProgramFor(const gl::Defines& modes) const;
+  // The program of shader `file` compiled with `modes` (the defines of
+  // shaders/blend_common.glsl: the length of the per-pixel list, the weights, encoding,
+  // background, ...), built on first use.
+  const gl::Program& ProgramFor(const char* file, const gl::Defines& modes) const;
 
   const gl::ShaderLibrary& shaders_;
-  mutable std::map<gl::Defines, gl::Program> programs_;  // by modes
+  // By shader file and modes.
+  mutable std::map<std::pair<std::string, gl::Defines>, gl::Program> programs_;
+  gl::Buffer params_buffer_;  // the uniform block BlendParams
+  // The pixels without a point (Holes in shaders/blend_common.glsl), grown to the largest target.
+  mutable gl::Buffer holes_;
   gl::Buffer photos_;
   gl::Buffer active_;
   GLuint photo_texture_ = 0;
@@ -63,16 +76,11 @@ class BlendPass {
   const PhotoCache* cache_ = nullptr;  // null: photo_texture_ holds every photo (else 0)
   bool cached_depth_ = false;          // depth_maps_ holds the cache's depth slots
   bool float_photos_ = false;          // RGBA16F photos (an HDR photo set), not 8-bit
-  float photo_texels_[2] = {1, 1};     // the full-size photo array's texels (width, height)
   int photo_count_ = 0;
   int active_count_ = 0;
-  float inv_scene_scale_ = 1.0f;
-  float sphere_[4] = {0, 0, 0, 1};  // BackgroundSphere of the scene
-  // FindDominantPlane of the scene: n and offset, axes u and v, extent (zero when invalid).
-  float plane_[4] = {0, 0, 0, 0};
-  float plane_u_[3] = {0, 0, 0};
-  float plane_v_[3] = {0, 0, 0};
-  float plane_extent_[4] = {0, 0, 0, 0};
+  // The scene's parameters (photo texels, scene scale, BackgroundSphere, FindDominantPlane's
+  // plane: zero when invalid); Process adds the frame's.
+  BlendParamsGpu params_{};
 };
 
 }  // namespace hdribr::render

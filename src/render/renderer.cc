@@ -237,7 +237,7 @@ void Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, Rende
       BlendRanksPhotos(m.options.blend, static_cast<int>(m.last.photos.size()))) {
     // The blend ranks photos per pixel: it visits the best-scored candidates first, so that
     // the photos it meets later mostly rank below its list and skip their shadow-map test
-    // (shaders/blend.comp, Weight). Summing every photo keeps their order (the sum's).
+    // (shaders/blend_visibility.glsl, Weight). Summing every photo keeps their order (the sum's).
     std::vector<int> order = m.last.photos;
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return m.candidates->score(a) > m.candidates->score(b); });

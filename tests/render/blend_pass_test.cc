@@ -3,6 +3,7 @@
 // float photos and radiance blending.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -424,6 +425,35 @@ TEST_F(BlendPassTest, HolesThatNoDepthMapHoldsTakeTheSurfaceAroundThem) {
 }
 
 // One rule for every blend option, whatever the weights, checked before any upload.
+// The C++ mirror of the uniform block BlendParams has the compiled block's size and every
+// member's offset, in both programs of the pass.
+TEST(BlendParams, MirrorMatchesTheCompiledBlock) {
+  gl::HeadlessContext context;
+  const gl::ShaderLibrary shaders;
+  const auto programs = BlendPass::ReachablePrograms();
+  ASSERT_FALSE(programs.empty());
+  for (const char* file : {"blend.comp", "blend_background.comp"}) {
+    const auto it = std::find_if(programs.begin(), programs.end(),
+                                 [&](const auto& p) { return p.first == file; });
+    ASSERT_NE(it, programs.end()) << file;
+    const gl::Program program = shaders.Build({file}, it->second);
+    const GLuint block = glGetProgramResourceIndex(program.id(), GL_UNIFORM_BLOCK, "BlendParams");
+    ASSERT_NE(block, GL_INVALID_INDEX) << file;
+    const GLenum size_prop = GL_BUFFER_DATA_SIZE;
+    GLint size = 0;
+    glGetProgramResourceiv(program.id(), GL_UNIFORM_BLOCK, block, 1, &size_prop, 1, nullptr, &size);
+    EXPECT_EQ(size, static_cast<GLint>(sizeof(BlendParamsGpu))) << file;
+    for (const auto& [name, offset] : BlendParamsLayout()) {
+      const GLuint index = glGetProgramResourceIndex(program.id(), GL_UNIFORM, name.c_str());
+      ASSERT_NE(index, GL_INVALID_INDEX) << file << " " << name;
+      const GLenum offset_prop = GL_OFFSET;
+      GLint at = -1;
+      glGetProgramResourceiv(program.id(), GL_UNIFORM, index, 1, &offset_prop, 1, nullptr, &at);
+      EXPECT_EQ(at, static_cast<GLint>(offset)) << file << " " << name;
+    }
+  }
+}
+
 TEST(BlendOptions, OneRuleCheckedBeforeAnyWork) {
   BlendOptions ok;
   EXPECT_TRUE(BlendOptionProblems(ok).empty());

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "gl/context.h"
 #include "gl/shader_library.h"
@@ -44,7 +45,12 @@ TEST(ShaderPortability, EveryProgramPassesTheReferenceCompiler) {
   const auto dir = test::TempDir("shader_portability");
   std::set<std::string> covered;
   int index = 0;
-  for (const auto& variant : shaders.built()) {
+  // What the passes built, then every blend program an option can reach.
+  std::vector<gl::ShaderLibrary::Variant> variants = shaders.built();
+  for (const auto& [file, modes] : render::BlendPass::ReachablePrograms()) {
+    variants.push_back({{file}, modes, 0});
+  }
+  for (const auto& variant : variants) {
     std::string files, label;
     for (const std::string& name : variant.names) {
       covered.insert(name);
