@@ -14,8 +14,8 @@ namespace hdribr {
 
 // Version of the bundle's capture/scene.json; the viewer refuses a newer one.
 inline constexpr int kWebBundleVersion = 1;
-// Bytes per point in capture/points.bin: 3 x uint16 position in the bounds, 2 x int8
-// octahedral normal, uint16 radius (little-endian).
+// Bytes per point of capture/points.bin once inflated: 3 x uint16 position in the bounds,
+// 2 x int8 octahedral normal, uint16 radius (layout in docs/usage/web.md).
 inline constexpr int kWebPointBytes = 10;
 
 struct WebBundleOptions {

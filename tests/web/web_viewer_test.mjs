@@ -60,6 +60,7 @@ async function launch() {
   return puppeteer.launch({
     executablePath: kChromium,
     headless: true,
+    protocolTimeout: 900000,  // a soak on SwiftShader takes minutes
     args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
       '--ignore-gpu-blocklist', '--enable-precise-memory-info'],
   });
@@ -151,6 +152,13 @@ async function main() {
   let ws = arg('--capture');
   const camera = arg('--camera', 's1_v02.jpg');
   const exposure = Number(arg('--exposure', '0.5'));
+  // Larger captures (docs/usage/web.md): the photos' size in the bundle and in `render`, and
+  // the output size.
+  const maxPhoto = arg('--max-photo-size');
+  const size = arg('--size');
+  // direct (radiance through the calibrated response) or ldr (an uncalibrated workspace).
+  const hdrMode = arg('--hdr-mode', 'direct');
+  const [vw, vh] = arg('--viewport', '512x384').split('x').map(Number);  // the page's window
   fs.mkdirSync(work, { recursive: true });
   // The capture: the default synthetic scene, 2 series x 6 views at 256 x 192, calibrated.
   if (!ws) {
@@ -165,7 +173,7 @@ async function main() {
   }
   const bundle = path.join(work, 'bundle');
   fs.rmSync(bundle, { recursive: true, force: true });
-  const e = run(bin, ['export-web', ws, bundle]);
+  const e = run(bin, ['export-web', ws, bundle, ...(maxPhoto ? ['--max-photo-size', maxPhoto] : [])]);
   console.log(`export-web ${e.toFixed(1)} s`);
   // Two views: a photo's viewpoint (by name) and a pose halfway between it and the next photo
   // (as render --camera takes it); each compared with the native picture with the refinements
@@ -185,8 +193,9 @@ async function main() {
   const matched = ['--depth-mode', 'plain', '--sampling', 'linear', '--refine-depth', '0',
     '--no-fill', '--candidates', '0'];
   for (const [kind, spec] of views) {
-    const common = ['render', ws, '--camera', spec, '--hdr-mode', 'direct', '--exposure',
-      String(exposure), '--no-depth-cache'];
+    const common = ['render', ws, '--camera', spec, '--hdr-mode', hdrMode, '--exposure',
+      String(exposure), '--no-depth-cache', ...(size ? ['--size', size] : []),
+      ...(maxPhoto ? ['--max-photo-size', maxPhoto] : [])];
     run(bin, [...common, ...matched, '--out', path.join(work, `native_${kind}_matched.png`)]);
     run(bin, [...common, '--out', path.join(work, `native_${kind}_default.png`)]);
   }
@@ -196,12 +205,13 @@ async function main() {
     const version = await browser.version();
     console.log(`browser: ${version}`);
     for (const [kind, spec] of views) {
-      const r = await open(browser, bundle, `?camera=${encodeURIComponent(spec)}&exposure=${exposure}&panel=0`);
+      const r = await open(browser, bundle, `?camera=${encodeURIComponent(spec)}&exposure=${exposure}&panel=0`, vw, vh);
       check(!r.error, `${kind}: the bundle loads${r.error ? `: ${r.error}` : ''}`);
       if (r.error) continue;
       console.log(`${kind}: first picture ${r.firstPictureMs?.toFixed(0)} ms, all photos ` +
         `${r.loadedMs?.toFixed(0)} ms after the page opened`);
-      const out = await r.page.evaluate(() => window.hdribr.renderExact());
+      const [ow, oh] = size ? size.split('x').map(Number) : [0, 0];
+      const out = await r.page.evaluate((width, height) => window.hdribr.renderExact({ width, height }), ow, oh);
       const web = { width: out.width, height: out.height, data: Buffer.from(out.data, 'base64') };
       writePng(path.join(work, `web_${kind}.png`), web.width, web.height, web.data);
       for (const variant of ['matched', 'default']) {
@@ -229,8 +239,14 @@ async function main() {
           `JS heap ${(soak.heapBefore / 1e6).toFixed(1)} -> ${(soak.heapAfter / 1e6).toFixed(1)} MB`);
         check(soak.errors === 0, 'soak: no WebGL error');
       }
-      if (process.argv.includes('--screenshot')) {
-        await r.page.screenshot({ path: path.join(work, `screenshot_${kind}.png`) });
+      if (process.argv.includes('--screenshot') && kind === 'photo') {
+        // With the panel, once the full-size frame of the loaded capture is drawn.
+        const shot = await open(browser, bundle, `?camera=${encodeURIComponent(spec)}&exposure=${exposure}`, 960, 600);
+        const frames = await shot.page.evaluate(() => window.hdribr.frames);
+        await shot.page.waitForFunction((f) => window.hdribr.frames > f, { timeout: 600000 }, frames);
+        await shot.page.screenshot({ path: path.join(work, 'screenshot.png') });
+        await shot.page.close();
+        shot.server.close();
       }
       await r.page.close();
       r.server.close();

@@ -33,15 +33,40 @@ export async function loadScene(base) {
   return scene;
 }
 
+// The points as the GPU takes them: kWebPointBytes (10) per point, x y z uint16, normal 2 int8,
+// radius uint16, little-endian; points.bin holds them in Morton order, positions as differences
+// from the previous point, by byte planes, deflated (io/web_bundle.cc, EncodePoints).
 export async function loadPoints(base, scene) {
   const url = `${base}/${scene.points.file}`;
-  const bytes = new Uint8Array(await (await fetchOk(url)).arrayBuffer());
-  const expected = scene.points.count * scene.points.bytes_per_point;
-  if (bytes.byteLength !== expected) {
-    throw new Error(`${url}: truncated or corrupt (${bytes.byteLength} bytes, ` +
-      `${scene.points.count} points need ${expected})`);
+  const compressed = await (await fetchOk(url)).arrayBuffer();
+  const n = scene.points.count;
+  const expected = n * scene.points.bytes_per_point;
+  if (scene.points.bytes_per_point !== 10) throw new Error(`${url}: unknown point layout`);
+  let planes;
+  try {
+    const stream = new Blob([compressed]).stream().pipeThrough(new DecompressionStream('deflate'));
+    planes = new Uint8Array(await new Response(stream).arrayBuffer());
+  } catch (e) {
+    planes = null;
   }
-  return bytes;
+  if (!planes || planes.byteLength !== expected) {
+    throw new Error(`${url}: truncated or corrupt (${compressed.byteLength} bytes` +
+      `${planes ? ` inflate to ${planes.byteLength}` : ' do not inflate'}; ${n} points need ${expected})`);
+  }
+  const out = new Uint8Array(expected);
+  const o16 = new Uint16Array(out.buffer);
+  const prev = [0, 0, 0];
+  for (let k = 0; k < n; ++k) {
+    for (let f = 0; f < 5; ++f) {
+      let v = planes[2 * f * n + k] | (planes[(2 * f + 1) * n + k] << 8);
+      if (f < 3) {
+        v = (v + prev[f]) & 0xffff;
+        prev[f] = v;
+      }
+      o16[k * 5 + f] = v;
+    }
+  }
+  return out;
 }
 
 // Photo i as an ImageBitmap of its stored pixels (no colour management, no EXIF rotation:

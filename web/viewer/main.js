@@ -343,9 +343,16 @@ async function main() {
 
 // Test hook: renders the current view at the reference camera's own size and intrinsics (as
 // `hdribr render --camera` does) and returns the tone-mapped RGBA8 pixels, rows top first.
+// opts.width, opts.height: another output size, the camera scaled to it (render --size).
 hook.renderExact = (opts = {}) => {
   const c = nav.refCam;
   const view = viewAt(c.width, c.height, true);
+  if (opts.width && opts.height) {
+    const sx = opts.width / c.width, sy = opts.height / c.height;
+    view.cam = { fx: c.fx * sx, fy: c.fy * sy, cx: c.cx * sx, cy: c.cy * sy };
+    view.w = opts.width;
+    view.h = opts.height;
+  }
   if (opts.outlierScale !== undefined) view.outlierScale = opts.outlierScale;
   renderer.render(view);
   renderer.display({ ...tone, ...(opts.tone || {}) }, false);
