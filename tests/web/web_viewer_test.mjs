@@ -193,8 +193,8 @@ async function main() {
   const matched = ['--depth-mode', 'plain', '--sampling', 'linear', '--refine-depth', '0',
     '--no-fill', '--candidates', '0'];
   for (const [kind, spec] of views) {
-    const common = ['render', ws, '--camera', spec, '--hdr-mode', hdrMode, '--exposure',
-      String(exposure), '--no-depth-cache', ...(size ? ['--size', size] : []),
+    const common = ['render', ws, '--camera', spec, '--hdr-mode', hdrMode,
+      ...(hdrMode === 'ldr' ? [] : ['--exposure', String(exposure)]), '--no-depth-cache', ...(size ? ['--size', size] : []),
       ...(maxPhoto ? ['--max-photo-size', maxPhoto] : [])];
     run(bin, [...common, ...matched, '--out', path.join(work, `native_${kind}_matched.png`)]);
     run(bin, [...common, '--out', path.join(work, `native_${kind}_default.png`)]);

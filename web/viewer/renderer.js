@@ -221,6 +221,29 @@ export class Renderer {
 
   loadedCount() { return this.photos.filter((p) => p.loaded).length; }
 
+  // The photos by their Unstructured Lumigraph penalty (blend.comp's, angle + weighted
+  // distance term) at the point of the view's axis at the centroid's depth, smallest first
+  // (ordered = false: index order).
+  visitOrder(view) {
+    const ids = this.photos.map((_, i) => i);
+    if (this.ordered === false) return new Int32Array(ids);
+    const w = worldFromCam(view.qvec, view.tvec);
+    const c = this.scene.centroid;
+    const fwd = [w.rotation[2], w.rotation[5], w.rotation[8]];
+    const depth = Math.max(fwd.reduce((s, f, k) => s + f * (c[k] - w.center[k]), 0), 1e-6);
+    const P = w.center.map((v, k) => v + depth * fwd[k]);
+    const unit = (v) => { const n = Math.hypot(...v); return v.map((x) => x / n); };
+    const V = unit(w.center.map((v, k) => v - P[k]));
+    const penalty = this.photos.map((p) => {
+      const vk = p.center.map((v, k) => v - P[k]);
+      const dk = Math.hypot(...vk);
+      const cos = Math.min(1, Math.max(-1, unit(vk).reduce((s, x, k) => s + x * V[k], 0)));
+      return Math.acos(cos) + (this.scene.blend.delta_weight * Math.abs(depth - dk)) / this.scene.scene_scale;
+    });
+    ids.sort((a, b) => penalty[a] - penalty[b] || a - b);
+    return new Int32Array(ids);
+  }
+
   // Near and far from the points' bounds in the view's camera space (depth_pass.cc).
   nearFar(m) {
     let far = 0;
@@ -349,6 +372,7 @@ export class Renderer {
     gl.bindBufferBase(gl.UNIFORM_BUFFER, 0, this.dataUbo);
     bind(5, gl.TEXTURE_2D, this.responseTex, u.u_response);
     gl.uniform1i(u.u_photo_count, this.photos.length);
+    gl.uniform1iv(u.u_order, this.visitOrder(view));
     gl.uniformMatrix4fv(u.u_world_from_cam, false, transpose4(worldFromCam(view.qvec, view.tvec).matrix));
     gl.uniform4f(u.u_intrinsics, cam.fx, cam.fy, cam.cx, cam.cy);
     gl.uniform1f(u.u_lambda, kBlend.lambda);

@@ -108,6 +108,10 @@ uniform highp sampler2DArray u_photo_depth;  // R32F camera z
 layout(std140) uniform PhotoData { vec4 u_photo_data[PHOTO_COUNT * 8]; };
 uniform sampler2D u_response;     // 256 x 1: g(Z) per channel
 uniform int u_photo_count;
+// The order the photos are visited in: smallest penalty at the view's centre first, so that
+// most later photos fail the list's bound before their depth-map test (the list, kept sorted
+// with ties to the smaller index, does not depend on the order).
+uniform int u_order[PHOTO_COUNT];
 uniform mat4 u_world_from_cam;
 uniform vec4 u_intrinsics;
 uniform float u_lambda;
@@ -228,7 +232,8 @@ void main() {
     best_uvl[j] = vec3(0.0);
   }
   int n_best = 0;
-  for (int i = 0; i < u_photo_count; ++i) {
+  for (int a = 0; a < u_photo_count; ++a) {
+    int i = u_order[a];
     vec4 size = Data(i, 5);
     if (size.w <= 0.0) continue;  // not loaded yet
     vec4 r0 = Data(i, 0), r1 = Data(i, 1), r2 = Data(i, 2);
