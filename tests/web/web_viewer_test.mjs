@@ -242,8 +242,7 @@ async function main() {
       if (process.argv.includes('--screenshot') && kind === 'photo') {
         // With the panel, once the full-size frame of the loaded capture is drawn.
         const shot = await open(browser, bundle, `?camera=${encodeURIComponent(spec)}&exposure=${exposure}`, 800, 500);
-        const frames = await shot.page.evaluate(() => window.hdribr.frames);
-        await shot.page.waitForFunction((f) => window.hdribr.frames > f, { timeout: 600000 }, frames);
+        await shot.page.waitForFunction(() => window.hdribr.fullFrame, { timeout: 600000 });
         await shot.page.screenshot({ path: path.join(work, 'screenshot.png') });
         await shot.page.close();
         shot.server.close();

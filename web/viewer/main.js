@@ -10,7 +10,7 @@ const kParallelFetches = 6;
 const $ = (id) => document.getElementById(id);
 const t0 = performance.now();
 const hook = {
-  ready: false, error: null, firstPictureMs: null, loadedMs: null, frames: 0, glErrors: 0,
+  ready: false, fullFrame: false, error: null, firstPictureMs: null, loadedMs: null, frames: 0, glErrors: 0,
 };
 window.hdribr = hook;
 
@@ -126,6 +126,7 @@ function frame() {
       const s = still ? 1 : loading ? kLoadingScale : kReducedScale;
       renderer.render(viewAt(Math.max(1, Math.round(w * s)), Math.max(1, Math.round(h * s)), false));
       reducedShown = !still;
+      hook.fullFrame = still;
       lastRender = now;
     }
     renderer.display(tone, true, w, h);
