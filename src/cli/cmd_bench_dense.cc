@@ -82,7 +82,6 @@ int Run(const BenchDenseOptions& opt) {
   const nlohmann::json j = {{"benchmark", "dense"},
                             {"workspace", ws.lexically_normal().string()},
                             {"method", opt.dense.method == DenseMethod::kSweep ? "sweep" : "cpu"},
-                            {"skip_settled", opt.dense.patch_match.skip_settled},
                             {"depth_maps", result.num_depth_maps},
                             {"depth_map_size", result.depth_map_size},
                             {"points", result.cloud.size()},
@@ -116,9 +115,6 @@ CommandRunner SetupBenchDense(CLI::App& sub) {
   sub.add_flag_callback(
       "--sweep", [opt] { opt->dense.method = DenseMethod::kSweep; },
       "The plane sweep instead of PatchMatch");
-  sub.add_flag_callback(
-      "--no-skip-settled", [opt] { opt->dense.patch_match.skip_settled = false; },
-      "PatchMatch updates every pixel in every iteration");
   sub.add_option("--threads", opt->dense.threads, "Threads (0: all cores)")
       ->check(kAtLeastZero)
       ->capture_default_str();

@@ -44,9 +44,6 @@ struct PatchMatchOptions {
   float min_texture = 2e-5f;    // intensity variance of the window needed to keep a depth
   int seed_radius = 1;          // sparse-point depth seeds cover this radius at the coarsest
   bool coarse_fill = true;      // pixels failing at full size keep a passing coarser plane
-  // After a level's first iteration, skip pixels whose plane and 4 neighbours' planes did not
-  // change in the previous iteration (docs/decisions/0042).
-  bool skip_settled = true;
 };
 
 struct DenseOptions {

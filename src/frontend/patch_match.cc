@@ -129,7 +129,7 @@ Result RunLevel(const std::vector<std::vector<LevelImage>>& pyramids,
   }
   ScoreAll(lv, st, threads);
   Iterate(lv, st, coarsest ? pm.coarse_iterations : pm.iterations, coarsest ? 0 : 2, ref, level, 0,
-          pm.skip_settled, threads);
+          threads);
   return MakeResult(std::move(st), *lv.ref);
 }
 
@@ -142,8 +142,7 @@ Result GeometricPass(const std::vector<std::vector<LevelImage>>& pyramids,
   const Level lv = MakeLevelContext(pyramids, maps, ref, task, 0, window, options, &finest);
   State st = finest[ref].state;
   ScoreAll(lv, st, threads);
-  Iterate(lv, st, options.patch_match.geom_iterations, 3, ref, 0, 1,
-          options.patch_match.skip_settled, threads);
+  Iterate(lv, st, options.patch_match.geom_iterations, 3, ref, 0, 1, threads);
   return MakeResult(std::move(st), *lv.ref);
 }
 

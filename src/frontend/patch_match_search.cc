@@ -100,10 +100,9 @@ const std::vector<std::vector<std::pair<int, int>>>& PropagationRegions() {
 }
 
 // Propagation then refinement at one pixel (Galliani et al. 2015, sec. 3.2-3.3).
-// True when the pixel's plane changed.
-bool UpdatePixel(const Level& lv, State& st, int x, int y, float depth_scale, float normal_scale,
+void UpdatePixel(const Level& lv, State& st, int x, int y, float depth_scale, float normal_scale,
                  Rng& rng, RefWindow& window) {
-  if (!PrepareWindow(lv, x, y, window)) return false;
+  if (!PrepareWindow(lv, x, y, window)) return;
   const int i = y * st.w + x;
   const Vec3 ray = lv.ref->k_inv * Vec3(float(x), float(y), 1.f);
   const Vec3 view = ray.normalized();
@@ -163,12 +162,10 @@ bool UpdatePixel(const Level& lv, State& st, int x, int y, float depth_scale, fl
   consider(d_pert, n0);
   consider(d0, n_pert);
   consider(d_pert, n_pert);
-  const bool changed = best_d != st.depth[i] || best_n != st.normal[i];
   st.depth[i] = best_d;
   st.normal[i] = best_n;
   st.cost[i] = best_cost;
   st.ncc[i] = best_ncc;
-  return changed;
 }
 
 }  // namespace
@@ -188,9 +185,7 @@ void ScoreAll(const Level& lv, State& st, int threads) {
 }
 
 void Iterate(const Level& lv, State& st, int iterations, int first_scale, int photo, int level,
-             int pass, bool skip_settled, int threads) {
-  // The last iteration in which each pixel's plane changed (-1: never).
-  std::vector<int> changed(size_t(st.w) * st.h, -1);
+             int pass, int threads) {
   for (int it = 0; it < iterations; ++it) {
     const float shrink = std::ldexp(1.f, -(first_scale + it));
     for (int color = 0; color < 2; ++color) {
@@ -198,21 +193,7 @@ void Iterate(const Level& lv, State& st, int iterations, int first_scale, int ph
         Rng rng(Seed(photo, level, pass, it * 2 + color, y));
         RefWindow window;
         for (int x = (y + color) % 2; x < st.w; x += 2) {
-          const int i = y * st.w + x;
-          // Settled: neither this plane nor its 4 neighbours' changed since the previous
-          // iteration, so propagation offers what it did then.
-          if (skip_settled && it > 0) {
-            const int since = it - 1;
-            if (changed[i] < since && (x == 0 || changed[i - 1] < since) &&
-                (x + 1 == st.w || changed[i + 1] < since) &&
-                (y == 0 || changed[i - st.w] < since) &&
-                (y + 1 == st.h || changed[i + st.w] < since)) {
-              continue;
-            }
-          }
-          if (UpdatePixel(lv, st, x, y, 0.1f * shrink, 0.6f * shrink, rng, window)) {
-            changed[i] = it;
-          }
+          UpdatePixel(lv, st, x, y, 0.1f * shrink, 0.6f * shrink, rng, window);
         }
       });
     }

@@ -39,9 +39,8 @@ void ScoreAll(const Level& lv, State& st, int threads);
 // Red-black iterations: all pixels of one colour update in parallel over rows, reading only
 // pixels of the other colour. Refinement perturbations start at 2^-first_scale of their full
 // range and halve each iteration; (photo, level, pass) seed the random numbers, so that results
-// do not depend on the thread count. With `skip_settled`, an iteration after the first leaves
-// out the pixels whose plane and 4 neighbours' planes did not change in the previous one.
+// do not depend on the thread count.
 void Iterate(const Level& lv, State& st, int iterations, int first_scale, int photo, int level,
-             int pass, bool skip_settled, int threads);
+             int pass, int threads);
 
 }  // namespace hdribr::patch_match
