@@ -23,7 +23,7 @@ enum class DenseMethod { kPatchMatch, kSweep };
 // recorded in a workspace's dense-stage marker: a change of the code that alters the clouds it
 // makes from the same photos and options increments it, so that `reconstruct` redoes the dense
 // stage of workspaces made before.
-inline constexpr int kDenseVersion = 2;
+inline constexpr int kDenseVersion = 3;
 
 // PatchMatch stereo parameters (frontend/patch_match.h).
 struct PatchMatchOptions {
