@@ -26,6 +26,10 @@ struct ReconstructOptions {
   DenseOptions dense_options;  // its method follows `dense`
   AttributeOptions attribute_options;
   int threads = 0;  // 0: hardware concurrency
+
+  // Throws OptionError naming the first field that COLMAP or the dense stage would fail on
+  // only minutes later.
+  void Check() const;
 };
 
 // Seconds spent in each stage that ran (skipped stages are absent).

@@ -3,10 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 #include <exception>
-#include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -14,15 +11,6 @@
 #include "render/photo_loader.h"
 
 namespace hdribr::render {
-
-void CheckGpuMemoryMb(double mb) {
-  if (!std::isfinite(mb) || mb < 0) {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%g", mb);
-    throw OptionError("gpu_memory_mb",
-                      std::string("must be >= 0 MiB (0 = from the device), got ") + text);
-  }
-}
 
 size_t GpuBudgetBytes(double mb) {
   CheckGpuMemoryMb(mb);
@@ -35,104 +23,6 @@ size_t GpuBudgetBytes(double mb) {
   }
   if (kib[0] > 0) return static_cast<size_t>(kib[0]) * 1024 / 4 * 3;
   return static_cast<size_t>(kDefaultGpuMemoryMb * 1048576.0);
-}
-
-namespace {
-
-// The layout of the coarse copies: every photo's size divided by 2^shift.
-PhotoLayout FallbackLayout(const PhotoLayout& full, int shift) {
-  PhotoLayout f;
-  f.is_float = full.is_float;
-  f.limit = full.limit;
-  const double scale = std::ldexp(1.0, -shift);
-  for (const cv::Size& s : full.sizes) {
-    const cv::Size c(std::max(1, static_cast<int>(std::lround(s.width * scale))),
-                     std::max(1, static_cast<int>(std::lround(s.height * scale))));
-    f.sizes.push_back(c);
-    f.width = std::max(f.width, c.width);
-    f.height = std::max(f.height, c.height);
-  }
-  f.levels = 1 + static_cast<int>(std::floor(std::log2(std::max(f.width, f.height))));
-  return f;
-}
-
-std::string Mib(size_t bytes) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.2f", static_cast<double>(bytes) / 1048576.0);
-  return buf;
-}
-
-}  // namespace
-
-namespace {
-
-// The layout of the slots of 1 / 2^t of the full size: the full array's levels t and coarser.
-PhotoLayout TierLayout(const PhotoLayout& full, int t) {
-  PhotoLayout r;
-  r.is_float = full.is_float;
-  r.width = std::max(1, full.width >> t);
-  r.height = std::max(1, full.height >> t);
-  r.levels = full.levels - t;
-  return r;
-}
-
-// The plan with every depth map resident (depth_slots 0) or `depth_slots` of them; nullopt
-// when it leaves no full-size slot.
-std::optional<PhotoCachePlan> PlanWith(const PhotoLayout& layout, size_t depth_layer_bytes,
-                                       int depth_slots, size_t budget_bytes) {
-  const size_t photos = layout.sizes.size();
-  PhotoCachePlan plan;
-  plan.depth_slots = depth_slots;
-  plan.depth_bytes =
-      depth_layer_bytes * (depth_slots > 0 ? static_cast<size_t>(depth_slots) : photos);
-  const size_t left = budget_bytes > plan.depth_bytes ? budget_bytes - plan.depth_bytes : 0;
-  // The finest coarse copies within their share (the coarsest are 1 x 1 per photo).
-  const int max_shift = std::max(1, layout.levels - 1);
-  for (plan.fallback_shift = 1; plan.fallback_shift < max_shift; ++plan.fallback_shift) {
-    if (FallbackLayout(layout, plan.fallback_shift).Bytes() <= kFallbackShare * left) break;
-  }
-  plan.fallback_bytes = FallbackLayout(layout, plan.fallback_shift).Bytes();
-  const size_t for_slots = left > plan.fallback_bytes ? left - plan.fallback_bytes : 0;
-  plan.slots = static_cast<int>(std::min(photos, for_slots / layout.LayerBytes()));
-  plan.slot_bytes = static_cast<size_t>(plan.slots) * layout.LayerBytes();
-  plan.pool_bytes = for_slots;
-  if (plan.slots < 1) return std::nullopt;
-  return plan;
-}
-
-}  // namespace
-
-std::optional<PhotoCachePlan> PlanPhotoCache(const PhotoLayout& layout, size_t depth_layer_bytes,
-                                             int candidates, size_t budget_bytes) {
-  const size_t photos = layout.sizes.size();
-  if (layout.Bytes() + depth_layer_bytes * photos <= budget_bytes) return std::nullopt;
-  const int per_frame =
-      candidates > 0 ? static_cast<int>(std::min<size_t>(static_cast<size_t>(candidates), photos))
-                     : static_cast<int>(photos);
-  const std::optional<PhotoCachePlan> resident =
-      PlanWith(layout, depth_layer_bytes, 0, budget_bytes);
-  if (resident && resident->slots >= per_frame) return resident;
-  if (per_frame < static_cast<int>(photos)) {
-    const std::optional<PhotoCachePlan> slotted =
-        PlanWith(layout, depth_layer_bytes, per_frame, budget_bytes);
-    if (slotted && (!resident || slotted->slots > resident->slots)) return slotted;
-  }
-  if (resident) return resident;
-  // The smallest budget that works, to name it (to a KiB).
-  const int depth_slots = per_frame < static_cast<int>(photos) ? per_frame : 0;
-  size_t low = budget_bytes, high = std::max<size_t>(budget_bytes, 1024) * 2;
-  while (!PlanWith(layout, depth_layer_bytes, depth_slots, high)) high *= 2;
-  while (high - low > 1024) {
-    const size_t mid = low + (high - low) / 2;
-    (PlanWith(layout, depth_layer_bytes, depth_slots, mid) ? high : low) = mid;
-  }
-  const size_t depth =
-      depth_layer_bytes * (depth_slots > 0 ? static_cast<size_t>(depth_slots) : photos);
-  throw OptionError("gpu_memory_mb",
-                    Mib(budget_bytes) + " MiB cannot hold the depth maps of a frame's photos (" +
-                        Mib(depth) + " MiB), the photos' coarse copies and one full-size " +
-                        "photo (" + Mib(layout.LayerBytes()) + " MiB): at least " + Mib(high) +
-                        " MiB");
 }
 
 PhotoCache::PhotoCache(const Scene& scene, std::vector<cv::Mat> images, PhotoLayout layout,
@@ -183,16 +73,6 @@ PhotoCache::PhotoCache(const Scene& scene, std::vector<cv::Mat> images, PhotoLay
 
 PhotoCache::~PhotoCache() = default;
 
-size_t PhotoCache::SplitBytes(const std::vector<int>& counts) const {
-  size_t bytes = 0;
-  bool reduced = false;
-  for (size_t t = 0; t < counts.size(); ++t) {
-    bytes += static_cast<size_t>(counts[t]) * TierLayout(layout_, static_cast<int>(t)).LayerBytes();
-    reduced = reduced || (t > 0 && counts[t] > 0);
-  }
-  return bytes + (reduced ? layout_.LayerBytes() : 0);
-}
-
 void PhotoCache::Build(const std::vector<int>& counts) {
   HDRIBR_CHECK(counts.size() == tiers_.size() && in_flight_ == 0);
   for (size_t p = 0; p < slot_of_.size(); ++p) {
@@ -219,7 +99,7 @@ void PhotoCache::Build(const std::vector<int>& counts) {
   }
   staging_ = reduced ? MipmappedArray(format, layout_.width, layout_.height, 1, layout_.levels)
                      : MipmappedArray();
-  slot_bytes_ = SplitBytes(counts);
+  slot_bytes_ = SplitBytes(layout_, counts);
   HDRIBR_CHECK(slot_bytes_ <= plan_.pool_bytes);
   map_dirty_ = true;
 }
@@ -235,45 +115,11 @@ bool PhotoCache::Resplit(const std::vector<int>& wanted, bool wait) {
     const int level = level_of_[static_cast<size_t>(p)];
     if (level >= 0) ++need[static_cast<size_t>(std::min(level, tiers - 1))];
   }
-  // What a split gives the wanted photos of known level: how many get a slot at all (the others
-  // are blended from their coarse copies), then how many at their level (photos that need
-  // level t can take a slot of any finer size: filled from the finest need).
-  const int known = std::accumulate(need.begin(), need.end(), 0);
-  auto placed = [&](const std::vector<int>& counts) {
-    int n = 0, spare = 0;
-    for (size_t t = 0; t < counts.size(); ++t) {
-      spare += counts[t];
-      const int take = std::min(spare, need[t]);
-      n += take;
-      spare -= take;
-    }
-    return std::make_pair(std::min(known, std::accumulate(counts.begin(), counts.end(), 0)), n);
-  };
   std::vector<int> current(static_cast<size_t>(tiers));
   for (size_t t = 0; t < current.size(); ++t) current[t] = static_cast<int>(tiers_[t].slot.size());
-  if (placed(current).second == known) return false;
-  // A slot per photo at its level; over the memory, the finest move one size down; what is left
-  // goes to full-size slots (they serve every level), then to the smaller ones.
-  std::vector<int> split = need;
-  const size_t pool = plan_.pool_bytes;
-  for (int t = 0; t < tiers && SplitBytes(split) > pool; ++t) {
-    while (split[static_cast<size_t>(t)] > 0 && SplitBytes(split) > pool) {
-      --split[static_cast<size_t>(t)];
-      if (t + 1 < tiers) ++split[static_cast<size_t>(t + 1)];
-    }
-  }
-  const int photos = static_cast<int>(slot_of_.size());
-  for (int t = 0; t < tiers; ++t) {
-    while (std::accumulate(split.begin(), split.end(), 0) < photos) {
-      ++split[static_cast<size_t>(t)];
-      if (SplitBytes(split) <= pool) continue;
-      --split[static_cast<size_t>(t)];
-      break;
-    }
-  }
-  if (std::accumulate(split.begin(), split.end(), 0) == 0 || placed(split) <= placed(current)) {
-    return false;
-  }
+  const std::vector<int> split =
+      BetterSplit(layout_, plan_.pool_bytes, static_cast<int>(slot_of_.size()), need, current);
+  if (split.empty()) return false;
   Build(split);
   last_split_ = frame_;
   return true;
@@ -342,25 +188,16 @@ bool PhotoCache::Place(const std::vector<int>& wanted) {
     Where best;
     for (int t : tries) {
       if (held.tier >= 0 && t >= held.tier) continue;
-      const std::vector<Slot>& slots = tiers_[static_cast<size_t>(t)].slot;
       // A free slot, else the least recently used one holding a photo this frame does not
       // want, else one holding a wanted photo not placed yet that needs a coarser tier.
-      int pick = -1, rank = 3;
-      for (size_t s = 0; s < slots.size() && rank > 0; ++s) {
-        const Slot& c = slots[s];
-        if (c.pending) continue;
+      const int pick = PickSlot(tiers_[static_cast<size_t>(t)].slot, [&](const CacheSlot& c) {
+        if (c.pending) return SlotUse::kNone;
+        if (c.photo < 0) return SlotUse::kFree;
         const size_t q = static_cast<size_t>(c.photo);
-        const int r = c.photo < 0                          ? 0
-                      : !is_wanted[q]                      ? 1
-                      : !placed[q] && desired(c.photo) > t ? 2
-                                                           : 3;
-        if (r < rank ||
-            (r == rank && r == 1 && c.last_used < slots[static_cast<size_t>(pick)].last_used)) {
-          pick = static_cast<int>(s);
-          rank = r;
-        }
-      }
-      if (pick >= 0 && rank < 3) {
+        if (!is_wanted[q]) return SlotUse::kEvict;
+        return !placed[q] && desired(c.photo) > t ? SlotUse::kLastResort : SlotUse::kNone;
+      });
+      if (pick >= 0) {
         best = Where{t, pick};
         break;
       }
@@ -433,17 +270,11 @@ void PhotoCache::RequestDepth(const std::vector<int>& wanted, const std::vector<
   bool changed = false;
   for (int p : wanted) {
     if (depth_slot_of_[static_cast<size_t>(p)] >= 0) continue;
-    int best = -1;
-    for (size_t s = 0; s < depth_slot_.size(); ++s) {
-      const Slot& c = depth_slot_[s];
-      if (c.photo >= 0 && is_wanted[static_cast<size_t>(c.photo)]) continue;
-      if (best < 0 || c.photo < 0 ||
-          (depth_slot_[static_cast<size_t>(best)].photo >= 0 &&
-           c.last_used < depth_slot_[static_cast<size_t>(best)].last_used)) {
-        best = static_cast<int>(s);
-        if (c.photo < 0) break;
-      }
-    }
+    // A free slot, else the least recently used one holding a photo this frame does not want.
+    const int best = PickSlot(depth_slot_, [&](const CacheSlot& c) {
+      if (c.photo < 0) return SlotUse::kFree;
+      return is_wanted[static_cast<size_t>(c.photo)] ? SlotUse::kNone : SlotUse::kEvict;
+    });
     if (best < 0) break;  // every depth slot holds a wanted photo
     Slot& slot = depth_slot_[static_cast<size_t>(best)];
     if (slot.photo >= 0) depth_slot_of_[static_cast<size_t>(slot.photo)] = -1;

@@ -17,19 +17,13 @@
 
 #include "core/scene.h"
 #include "gl/objects.h"
+#include "render/photo_cache_plan.h"
 #include "render/photo_textures.h"
 
 namespace hdribr::render {
 
 // The GPU memory budget when none is given and the driver reports none, MiB.
 inline constexpr double kDefaultGpuMemoryMb = 2048.0;
-// Share of the budget left after the depth maps that the coarse copies may use.
-inline constexpr double kFallbackShare = 0.25;
-// Slot sizes: full size and 1 / 2^t of it for t < kSlotTiers (finer than the coarse copies).
-inline constexpr int kSlotTiers = 3;
-
-// Throws OptionError("gpu_memory_mb", ...) unless `mb` is finite and >= 0 (0 = automatic).
-void CheckGpuMemoryMb(double mb);
 // Needs a current GL context. The budget in bytes for `mb` (MiB, > 0), or for 0: three
 // quarters of the free video memory that GL_NVX_gpu_memory_info or GL_ATI_meminfo reports,
 // else kDefaultGpuMemoryMb.
@@ -53,27 +47,6 @@ struct PhotoResidency {
   size_t loads = 0;          // photos loaded into slots so far
   size_t evictions = 0;      // photos evicted from their slot so far
 };
-
-// How a cache fits a budget: the coarse copies' size, the number of slots per size and of
-// depth-map slots.
-struct PhotoCachePlan {
-  int fallback_shift = 1;  // coarse copies at 1 / 2^shift of the photos' size
-  int slots = 0;           // full-size slots that the slots' memory holds (the first split)
-  size_t fallback_bytes = 0;
-  size_t slot_bytes = 0;   // the full-size slots
-  size_t pool_bytes = 0;   // what the slots of every size may use
-  int depth_slots = 0;     // 0: every depth map resident
-  size_t depth_bytes = 0;  // the depth maps resident (all, or the depth slots)
-};
-
-// The plan for photos of `layout` and one depth map of `depth_layer_bytes` per photo within
-// `budget_bytes`, for frames of at most `candidates` photos (0 = every photo); nullopt when
-// everything fits as it is. The depth maps stay resident when the rest leaves a full-size slot
-// per candidate; else, with fewer candidates than photos, they get a slot per candidate when
-// that leaves more slots. Throws OptionError("gpu_memory_mb", ...) when the budget cannot hold the
-// depth maps, the coarse copies and one full-size slot.
-std::optional<PhotoCachePlan> PlanPhotoCache(const PhotoLayout& layout, size_t depth_layer_bytes,
-                                             int candidates, size_t budget_bytes);
 
 class PhotoLoader;
 struct LoadedPhoto;
@@ -136,11 +109,7 @@ class PhotoCache {
   PhotoResidency residency() const;
 
  private:
-  struct Slot {
-    int photo = -1;
-    bool pending = false;
-    long last_used = -1;  // the frame that last wanted it
-  };
+  using Slot = CacheSlot;
   // The slots of one size: 1 / 2^t of the full size, the full array's mip levels t and coarser.
   struct Tier {
     MipmappedArray texture;
@@ -160,8 +129,6 @@ class PhotoCache {
   bool Resplit(const std::vector<int>& wanted, bool wait);
   // Empties every slot and allocates counts[t] slots of 1 / 2^t of the full size.
   void Build(const std::vector<int>& counts);
-  // Bytes of counts[t] slots per size, with the staging layer when a reduced slot is among them.
-  size_t SplitBytes(const std::vector<int>& counts) const;
   void ClearFeedback();
   void RequestDepth(const std::vector<int>& wanted, const std::vector<bool>& is_wanted);
   // Reads the blend's feedback into level_of_ once per frame; true when a photo sampled a level

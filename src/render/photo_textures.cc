@@ -21,16 +21,6 @@ MipmappedArray::MipmappedArray(GLenum internal_format, int width, int height, in
   glTextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
-size_t PhotoLayout::LayerBytes() const {
-  const size_t texel = is_float ? 8 : 4;
-  size_t bytes = 0;
-  for (int l = 0; l < levels; ++l) {
-    bytes += static_cast<size_t>(std::max(1, width >> l)) *
-             static_cast<size_t>(std::max(1, height >> l)) * texel;
-  }
-  return bytes;
-}
-
 PhotoLayout MeasurePhotos(const Scene& scene, const std::vector<cv::Mat>& images, int max_size) {
   HDRIBR_CHECK(images.empty() || images.size() == scene.photos.size());
   GLint gl_max = 4096;

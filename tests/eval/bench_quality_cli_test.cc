@@ -8,14 +8,14 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "support/exe.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
+using test::Exe;
 
 namespace fs = std::filesystem;
-
-std::string Exe() { return HDRIBR_EXE; }
 
 fs::path WriteManifest(const fs::path& dir) {
   const fs::path manifest = dir / "suite.json";

@@ -9,14 +9,14 @@
 #include <string>
 
 #include "io/atomic_file.h"
+#include "support/exe.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
+using test::Exe;
 
 namespace fs = std::filesystem;
-
-std::string Exe() { return HDRIBR_EXE; }
 
 // A fresh capture for the calling test.
 fs::path Capture(const std::string& name, const std::string& options) {

@@ -12,6 +12,7 @@
 #include "eval/hdr_novel.h"
 #include "gl/context.h"
 #include "io/workspace.h"
+#include "support/test_capture.h"
 #include "synth/capture.h"
 #include "test_util.h"
 
@@ -24,13 +25,7 @@ namespace fs = std::filesystem;
 fs::path SmallCapture() {
   if (const char* env = std::getenv("HDRIBR_EVAL_CAPTURE")) return env;
   const fs::path dir = test::TempDir("loo_capture") / "cap";
-  synth::CaptureOptions o;
-  o.series = 2;
-  o.views = 6;
-  o.width = 200;
-  o.height = 150;
-  o.novel_views = 2;
-  synth::WriteCapture(o, dir);
+  test::WriteTestCapture(dir, {2, 6, 200, 150, 2});
   return dir;
 }
 

@@ -11,13 +11,13 @@
 #include "io/atomic_file.h"
 #include "io/colmap_model.h"
 #include "io/ply.h"
+#include "support/exe.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
-
-std::string Exe() { return HDRIBR_EXE; }
+using test::Exe;
 
 int CountLines(const std::string& s) {
   int n = 0;

@@ -12,7 +12,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cli_capture.h"
 #include "eval/metrics.h"
 #include "hdr/re_expose.h"
 #include "hdr/response_curve.h"
@@ -20,6 +19,7 @@
 #include "io/image.h"
 #include "io/radiometric_calibration.h"
 #include "io/workspace.h"
+#include "support/cli_capture.h"
 #include "synth/capture.h"
 #include "test_util.h"
 

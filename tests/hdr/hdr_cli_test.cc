@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <string>
 
-#include "cli_capture.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "render/hdr_photo_set.h"
+#include "support/cli_capture.h"
 #include "test_util.h"
 
 namespace hdribr {

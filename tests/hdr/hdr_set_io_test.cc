@@ -15,6 +15,7 @@
 #include "io/exr.h"
 #include "io/workspace.h"
 #include "render/hdr_photo_set.h"
+#include "support/test_capture.h"
 #include "synth/capture.h"
 #include "test_util.h"
 
@@ -24,14 +25,7 @@ namespace fs = std::filesystem;
 
 // The options of the suite's capture.
 synth::CaptureOptions SuiteCaptureOptions() {
-  synth::CaptureOptions o;
-  o.series = 3;
-  o.views = 5;
-  o.width = 160;
-  o.height = 120;
-  o.novel_views = 1;
-  o.threads = 2;
-  return o;
+  return test::TestCaptureOptions({3, 5, 160, 120, 1});
 }
 void WriteSuiteCapture(const fs::path& dir) {
   synth::WriteCapture(SuiteCaptureOptions(), dir / "capture");

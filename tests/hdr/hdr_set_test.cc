@@ -19,7 +19,7 @@
 #include "io/exr.h"
 #include "io/workspace.h"
 #include "render/hdr_render.h"
-#include "test_capture.h"
+#include "support/test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::render {

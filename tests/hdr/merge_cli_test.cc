@@ -10,13 +10,15 @@
 #include "hdr/response_curve.h"
 #include "io/exr.h"
 #include "io/image.h"
+#include "support/exe.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
 
-std::string Exe() { return std::string(HDRIBR_EXE) + " -q"; }
+// hdribr, quiet.
+std::string QuietExe() { return test::Exe() + " -q"; }
 std::string Q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 std::string MemorialImages(const fs::path& dir) {
@@ -70,7 +72,7 @@ size_t CountFiles(const fs::path& dir, const std::string& ext) {
 TEST(MergeCli, MemorialWithResponseRoundTripAndToneMap) {
   HDRIBR_REQUIRE_DATASET(data, "memorial");
   const fs::path dir = test::TempDir();
-  const auto r = test::RunCommand(Exe() + " merge" + MemorialImages(data) + " --times-file " +
+  const auto r = test::RunCommand(QuietExe() + " merge" + MemorialImages(data) + " --times-file " +
                                   Q(data / "shutter_times.txt") + " --out " + Q(dir / "m.exr") +
                                   " --save-response " + Q(dir / "r.json") + " --tonemap " +
                                   Q(dir / "m.png") + " --key 0.18 --gamma 2.2");
@@ -88,17 +90,19 @@ TEST(MergeCli, MemorialWithResponseRoundTripAndToneMap) {
   EXPECT_LT(mean[1], 220);
 
   // Reusing the saved response gives the same radiance (no calibration).
-  const auto again = test::RunCommand(Exe() + " merge" + MemorialImages(data) + " --times-file " +
-                                      Q(data / "shutter_times.txt") + " --response " +
-                                      Q(dir / "r.json") + " --out " + Q(dir / "again.exr"));
+  const auto again =
+      test::RunCommand(QuietExe() + " merge" + MemorialImages(data) + " --times-file " +
+                       Q(data / "shutter_times.txt") + " --response " + Q(dir / "r.json") +
+                       " --out " + Q(dir / "again.exr"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   const cv::Mat e2 = ReadExr(dir / "again.exr");
   EXPECT_LE(cv::norm(e, e2, cv::NORM_INF), 0.0);
 
   // --response and --lambda exclude each other.
-  const auto both = test::RunCommand(Exe() + " merge" + MemorialImages(data) + " --times-file " +
-                                     Q(data / "shutter_times.txt") + " --response " +
-                                     Q(dir / "r.json") + " --lambda 3 --out " + Q(dir / "x.exr"));
+  const auto both =
+      test::RunCommand(QuietExe() + " merge" + MemorialImages(data) + " --times-file " +
+                       Q(data / "shutter_times.txt") + " --response " + Q(dir / "r.json") +
+                       " --lambda 3 --out " + Q(dir / "x.exr"));
   EXPECT_NE(both.exit_code, 0);
   EXPECT_FALSE(fs::exists(dir / "x.exr"));
 }
@@ -107,11 +111,11 @@ TEST(MergeCli, NamedTimesFileAndInlineTimes) {
   const fs::path dir = test::TempDir();
   const auto images = RampImages(dir);
   std::ofstream(dir / "times.txt") << "ramp2.png 4\nramp0.png 1/4\nramp1.png 1\n";
-  const auto named = test::RunCommand(Exe() + " merge" + Join(images) + " --times-file " +
+  const auto named = test::RunCommand(QuietExe() + " merge" + Join(images) + " --times-file " +
                                       Q(dir / "times.txt") + " --out " + Q(dir / "a.exr"));
   ASSERT_EQ(named.exit_code, 0) << named.output;
   // The extension's case does not matter.
-  const auto inline_times = test::RunCommand(Exe() + " merge" + Join(images) +
+  const auto inline_times = test::RunCommand(QuietExe() + " merge" + Join(images) +
                                              " --times 0.25 1/1 4 --out " + Q(dir / "b.EXR"));
   ASSERT_EQ(inline_times.exit_code, 0) << inline_times.output;
   const cv::Mat a = ReadExr(dir / "a.exr"), b = ReadExr(dir / "b.EXR");
@@ -122,7 +126,7 @@ TEST(MergeCli, NamedTimesFileAndInlineTimes) {
   EXPECT_GT(a.at<cv::Vec3f>(5, 100)[1], a.at<cv::Vec3f>(5, 20)[1]);
 
   std::ofstream(dir / "missing.txt") << "ramp2.png 4\nramp0.png 1/4\n";
-  const auto missing = test::RunCommand(Exe() + " merge" + Join(images) + " --times-file " +
+  const auto missing = test::RunCommand(QuietExe() + " merge" + Join(images) + " --times-file " +
                                         Q(dir / "missing.txt") + " --out " + Q(dir / "c.exr"));
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_NE(missing.output.find("missing.txt"), std::string::npos) << missing.output;
@@ -132,7 +136,8 @@ TEST(MergeCli, NamedTimesFileAndInlineTimes) {
   // Formats the outputs cannot take: one line each, before any work.
   for (const std::string& bad : {" --out " + Q(dir / "d.png"),
                                  " --out " + Q(dir / "d.exr") + " --tonemap " + Q(dir / "d.tif")}) {
-    const auto r = test::RunCommand(Exe() + " merge" + Join(images) + " --times 0.25 1 4" + bad);
+    const auto r =
+        test::RunCommand(QuietExe() + " merge" + Join(images) + " --times 0.25 1 4" + bad);
     EXPECT_EQ(r.exit_code, 64) << r.output;
     EXPECT_NE(r.output.find("must end in ."), std::string::npos) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -147,7 +152,7 @@ TEST(MergeCli, PlainDebevecFlagSelectsThePublishedCalibration) {
   stack.times = {0.25, 1, 4};
   for (const auto& p : images) stack.images.push_back(ReadImage(p));
   auto run = [&](const std::string& extra, const std::string& name) {
-    return test::RunCommand(Exe() + " merge" + Join(images) + " --times 1/4 1 4" + extra +
+    return test::RunCommand(QuietExe() + " merge" + Join(images) + " --times 1/4 1 4" + extra +
                             " --save-response " + Q(dir / name) + " --out " + Q(dir / "o.exr"));
   };
   auto max_diff = [](const ResponseCurve& a, const ResponseCurve& b) {
@@ -183,7 +188,7 @@ TEST(MergeCli, SaturatedAndBlackStacks) {
   for (int value : {255, 0}) {
     const auto images = FlatImages(dir, {value, value, value});
     // Calibration is impossible: a clear error, nothing written.
-    const auto cal = test::RunCommand(Exe() + " merge" + Join(images) +
+    const auto cal = test::RunCommand(QuietExe() + " merge" + Join(images) +
                                       " --times 1/8 1/2 2 --out " + Q(dir / "cal.exr"));
     EXPECT_EQ(cal.exit_code, 2) << cal.output;
     EXPECT_NE(cal.output.find("no pixel is well exposed"), std::string::npos) << cal.output;
@@ -191,7 +196,7 @@ TEST(MergeCli, SaturatedAndBlackStacks) {
     // With a response: the documented bound (shortest exposure when saturated, longest when
     // black), finite everywhere.
     const fs::path out = dir / ("v" + std::to_string(value) + ".exr");
-    const auto r = test::RunCommand(Exe() + " merge" + Join(images) + " --times 1/8 1/2 2" +
+    const auto r = test::RunCommand(QuietExe() + " merge" + Join(images) + " --times 1/8 1/2 2" +
                                     " --response " + Q(example) + " --float --out " + Q(out) +
                                     " --tonemap " + Q(dir / "t.png"));
     ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -206,13 +211,14 @@ TEST(MergeCli, SaturatedAndBlackStacks) {
 TEST(MergeCli, OneImageStack) {
   const fs::path dir = test::TempDir();
   const auto images = FlatImages(dir, {128});
-  const auto cal =
-      test::RunCommand(Exe() + " merge" + Join(images) + " --times 0.5 --out " + Q(dir / "a.exr"));
+  const auto cal = test::RunCommand(QuietExe() + " merge" + Join(images) + " --times 0.5 --out " +
+                                    Q(dir / "a.exr"));
   EXPECT_EQ(cal.exit_code, 64) << cal.output;
   EXPECT_NE(cal.output.find("--response"), std::string::npos) << cal.output;
   const fs::path example = fs::path(HDRIBR_SOURCE_DIR) / "calib/response.example.json";
-  const auto r = test::RunCommand(Exe() + " merge" + Join(images) + " --times 0.5 --response " +
-                                  Q(example) + " --out " + Q(dir / "b.exr"));
+  const auto r =
+      test::RunCommand(QuietExe() + " merge" + Join(images) + " --times 0.5 --response " +
+                       Q(example) + " --out " + Q(dir / "b.exr"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // g(128) = 0 in the example, so E = 1 / 0.5.
   EXPECT_NEAR(ReadExr(dir / "b.exr").at<cv::Vec3f>(0, 0)[2], 2.0, 2e-3);
@@ -233,7 +239,7 @@ TEST(MergeCli, BadInputGivesOneLineErrorsAndNoOutput) {
   const fs::path dir = test::TempDir();
   auto images = RampImages(dir);
   auto run = [&](const std::string& args) {
-    return test::RunCommand(Exe() + " merge" + Join(images) + " " + args);
+    return test::RunCommand(QuietExe() + " merge" + Join(images) + " " + args);
   };
   auto count = run("--times 1 2 --out " + Q(dir / "o.exr"));
   EXPECT_EQ(count.exit_code, 64) << count.output;
@@ -303,17 +309,17 @@ TEST(MergeCli, MasksExcludePixels) {
   const fs::path example = fs::path(HDRIBR_SOURCE_DIR) / "calib/response.example.json";
   const std::string stack = " " + Q(images[0]) + " " + Q(dir / "spoiled.png") + " " + Q(images[2]) +
                             " --times 0.25 1 4 --response " + Q(example);
-  const auto masked = test::RunCommand(Exe() + " merge" + stack + " --masks " + Q(dir / "all.png") +
-                                       " " + Q(dir / "mask1.png") + " " + Q(dir / "all.png") +
-                                       " --out " + Q(dir / "m.exr"));
+  const auto masked = test::RunCommand(QuietExe() + " merge" + stack + " --masks " +
+                                       Q(dir / "all.png") + " " + Q(dir / "mask1.png") + " " +
+                                       Q(dir / "all.png") + " --out " + Q(dir / "m.exr"));
   ASSERT_EQ(masked.exit_code, 0) << masked.output;
   const auto two =
-      test::RunCommand(Exe() + " merge " + Q(images[0]) + " " + Q(images[2]) +
+      test::RunCommand(QuietExe() + " merge " + Q(images[0]) + " " + Q(images[2]) +
                        " --times 0.25 4 --response " + Q(example) + " --out " + Q(dir / "two.exr"));
   ASSERT_EQ(two.exit_code, 0) << two.output;
   const cv::Mat m = ReadExr(dir / "m.exr"), t = ReadExr(dir / "two.exr");
   EXPECT_LE(cv::norm(m.colRange(0, 128), t.colRange(0, 128), cv::NORM_INF), 0.0);
-  const auto wrong_count = test::RunCommand(Exe() + " merge" + stack + " --masks " +
+  const auto wrong_count = test::RunCommand(QuietExe() + " merge" + stack + " --masks " +
                                             Q(dir / "all.png") + " --out " + Q(dir / "w.exr"));
   EXPECT_EQ(wrong_count.exit_code, 64) << wrong_count.output;
 }

@@ -18,11 +18,11 @@
 namespace hdribr {
 namespace {
 
-std::string Exe() { return HDRIBR_BENCH_GPU_EXE; }
+std::string BenchGpuExe() { return HDRIBR_BENCH_GPU_EXE; }
 
 TEST(BenchGpuCli, DepthRunsEveryConfiguration) {
   const auto json = test::TempDir("bench_gpu_cli_depth") / "bench.json";
-  const auto r = test::RunCommand(Exe() +
+  const auto r = test::RunCommand(BenchGpuExe() +
                                   " bench depth --sizes 64x48,40x40 --points 3000 --frames 1"
                                   " --modes plain,marroquim,lechelek --rasters compute,pipeline"
                                   " --json " +
@@ -54,7 +54,7 @@ TEST(BenchGpuCli, DepthRunsEveryConfiguration) {
 
 TEST(BenchGpuCli, RenderRunsEveryConfiguration) {
   const auto json = test::TempDir("bench_gpu_cli_render") / "bench.json";
-  const auto r = test::RunCommand(Exe() +
+  const auto r = test::RunCommand(BenchGpuExe() +
                                   " bench render --sizes 64x48 --photos 3,5 --k-best 0,2"
                                   " --candidates 0,4 --points 3000 --photo-size 64x48 --frames 1"
                                   " --json " +
@@ -75,8 +75,8 @@ TEST(BenchGpuCli, RenderRunsEveryConfiguration) {
 
 TEST(BenchGpuCli, BadSizeIsOneErrorLineAndNoJson) {
   const auto json = test::TempDir("bench_gpu_cli_bad") / "bench.json";
-  const auto r =
-      test::RunCommand(Exe() + " bench depth --sizes 64x --points 100 --json " + json.string());
+  const auto r = test::RunCommand(BenchGpuExe() + " bench depth --sizes 64x --points 100 --json " +
+                                  json.string());
   EXPECT_EQ(r.exit_code, 64) << r.output;
   EXPECT_NE(r.output.find("error: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("64x"), std::string::npos) << r.output;
@@ -86,8 +86,8 @@ TEST(BenchGpuCli, BadSizeIsOneErrorLineAndNoJson) {
 
 TEST(BenchGpuCli, DetailOutsideZeroToOneIsOneErrorLine) {
   for (const std::string detail : {"0", "1.5", "-0.25"}) {
-    const auto r =
-        test::RunCommand(Exe() + " bench depth --sizes 64x48 --points 100 --detail " + detail);
+    const auto r = test::RunCommand(BenchGpuExe() +
+                                    " bench depth --sizes 64x48 --points 100 --detail " + detail);
     EXPECT_EQ(r.exit_code, 64) << r.output;
     EXPECT_NE(r.output.find("error: --detail must be in (0, 1]"), std::string::npos) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -112,9 +112,9 @@ TEST(BenchGpuCli, BundleHoldsEveryNeededLibrary) {
   ASSERT_FALSE(pattern.empty()) << "no system='...' pattern in .ci/gpu-bench";
   const std::regex left_to_gpu_machine(pattern, std::regex::extended);  // bash's =~ is ERE
 
-  const auto needed_out = test::RunCommand("objdump -p " + Exe());
+  const auto needed_out = test::RunCommand("objdump -p " + BenchGpuExe());
   ASSERT_EQ(needed_out.exit_code, 0) << needed_out.output;
-  const auto ldd_out = test::RunCommand("ldd " + Exe());
+  const auto ldd_out = test::RunCommand("ldd " + BenchGpuExe());
   ASSERT_EQ(ldd_out.exit_code, 0) << ldd_out.output;
   auto matches = [](const std::string& text, const std::regex& re) {
     std::set<std::string> names;

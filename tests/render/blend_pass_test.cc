@@ -17,7 +17,7 @@
 #include "io/workspace.h"
 #include "render/blend_pass.h"
 #include "render/renderer.h"
-#include "test_capture.h"
+#include "support/test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::render {

@@ -8,15 +8,14 @@
 #include <fstream>
 #include <string>
 
-#include "cli_capture.h"
 #include "io/depth_map_cache.h"
 #include "io/exr.h"
+#include "support/cli_capture.h"
 
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
-
-std::string Exe() { return HDRIBR_EXE; }
+using test::Exe;
 
 std::string Bytes(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);

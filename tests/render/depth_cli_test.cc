@@ -5,11 +5,13 @@
 
 #include "io/exr.h"
 #include "io/image.h"
-#include "test_capture.h"
+#include "support/exe.h"
+#include "support/test_capture.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
+using test::Exe;
 
 // The suite's capture, 1 series x 2 views, 160 x 120, in dir/capture.
 void WriteSuiteCapture(const std::filesystem::path& dir) {
@@ -28,7 +30,6 @@ class DepthCliTest : public ::testing::Test {
                                      "capture");
   }
   static void TearDownTestSuite() { delete dir_; }
-  static std::string Exe() { return HDRIBR_EXE; }
   static std::filesystem::path* dir_;
 };
 std::filesystem::path* DepthCliTest::dir_ = nullptr;

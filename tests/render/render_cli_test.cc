@@ -7,14 +7,15 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cli_capture.h"
 #include "io/camera_spec.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "io/workspace.h"
+#include "support/cli_capture.h"
 
 namespace hdribr {
 namespace {
+using test::Exe;
 
 // The setup of the shared fixture SmallCapture1 (tests/render/CMakeLists.txt), read by every
 // test of RenderCliTest and by the viewer's soak test.

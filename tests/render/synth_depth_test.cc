@@ -12,6 +12,7 @@
 #include "io/workspace.h"
 #include "render/depth_pass.h"
 #include "render/readback.h"
+#include "support/test_capture.h"
 #include "synth/capture.h"
 #include "test_util.h"
 
@@ -20,14 +21,7 @@ namespace {
 
 TEST(SynthDepthTest, AccuracyOnSyntheticCapture) {
   const std::filesystem::path dir = test::TempDir("synth_depth") / "capture";
-  synth::CaptureOptions opt;
-  opt.series = 1;
-  opt.views = 4;
-  opt.width = 256;
-  opt.height = 192;
-  opt.novel_views = 3;
-  opt.threads = 2;
-  synth::WriteCapture(opt, dir);
+  test::WriteTestCapture(dir, {1, 4, 256, 192, 3});
   const Scene scene = LoadWorkspace(dir / "workspace");
   const ColmapModel novel = ReadColmapModel(dir / "gt" / "novel");
   ASSERT_FALSE(scene.points.empty());

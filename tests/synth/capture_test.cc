@@ -20,22 +20,14 @@
 #include "io/image.h"
 #include "io/ply.h"
 #include "io/workspace.h"
+#include "support/test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::synth {
 namespace {
 namespace fs = std::filesystem;
 
-CaptureOptions SmallOptions() {
-  CaptureOptions o;
-  o.series = 3;
-  o.views = 3;
-  o.width = 256;
-  o.height = 192;
-  o.novel_views = 2;
-  o.seed = 5;
-  return o;
-}
+CaptureOptions SmallOptions() { return test::TestCaptureOptions({3, 3, 256, 192, 2, 5}); }
 
 // The capture of the suite Capture, in dir/capture, and WriteCapture's summary of it in
 // dir/summary.txt ("photos novel").
@@ -337,13 +329,7 @@ std::map<std::string, std::string> ReadTree(const fs::path& root) {
 
 TEST(CaptureDeterminism, SameSeedSameBytesOtherSeedOtherPhotos) {
   const fs::path tmp = test::TempDir();
-  CaptureOptions o;
-  o.series = 2;
-  o.views = 2;
-  o.width = 96;
-  o.height = 72;
-  o.novel_views = 1;
-  o.seed = 11;
+  CaptureOptions o = test::TestCaptureOptions({2, 2, 96, 72, 1, 11});
   WriteCapture(o, tmp / "a");
   o.threads = 1;
   WriteCapture(o, tmp / "b");

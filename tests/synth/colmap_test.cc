@@ -9,6 +9,7 @@
 
 #include "io/colmap_model.h"
 #include "io/io_test_util.h"
+#include "support/test_capture.h"
 #include "synth/capture.h"
 #include "test_util.h"
 
@@ -19,14 +20,7 @@ namespace fs = std::filesystem;
 TEST(SynthColmap, ColmapReadsTheGroundTruthModels) {
   if (test::RunCommand("colmap help").exit_code != 0) GTEST_SKIP() << "colmap is not installed";
   const fs::path tmp = test::TempDir();
-  CaptureOptions o;
-  o.series = 2;
-  o.views = 3;
-  o.width = 96;
-  o.height = 72;
-  o.novel_views = 2;
-  o.seed = 3;
-  WriteCapture(o, tmp / "capture");
+  test::WriteTestCapture(tmp / "capture", {2, 3, 96, 72, 2, 3});
   for (const std::string model : {"gt", "gt/novel"}) {
     const fs::path text = tmp / "capture" / model;
     const fs::path binary = tmp / "binary" / model;

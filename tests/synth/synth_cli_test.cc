@@ -4,13 +4,13 @@
 #include <nlohmann/json.hpp>
 
 #include "io/image.h"
+#include "support/exe.h"
 #include "test_util.h"
 
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
-
-std::string Exe() { return HDRIBR_EXE; }
+using test::Exe;
 
 TEST(SynthCli, MakesACaptureThatInspectAccepts) {
   const fs::path tmp = test::TempDir();

@@ -6,10 +6,11 @@
 #include <cstdio>
 #include <string>
 
-#include "cli_capture.h"
+#include "support/cli_capture.h"
 
 namespace hdribr {
 namespace {
+using test::Exe;
 
 class ViewerSoakTest : public test::SmallCaptureTest<1> {
  protected:

@@ -8,13 +8,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cli_capture.h"
 #include "io/camera_spec.h"
 #include "io/exr.h"
 #include "io/workspace.h"
+#include "support/cli_capture.h"
 
 namespace hdribr {
 namespace {
+using test::Exe;
 
 // BGRA as written (ReadImage drops alpha).
 cv::Mat ReadPng(const std::filesystem::path& path) {

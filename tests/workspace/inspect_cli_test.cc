@@ -6,14 +6,14 @@
 #include <nlohmann/json.hpp>
 
 #include "io/io_test_util.h"
+#include "support/exe.h"
 #include "test_util.h"
 #include "workspace/workspace_fixture.h"
 
 namespace hdribr {
 namespace {
 namespace fs = std::filesystem;
-
-std::string Exe() { return HDRIBR_EXE; }
+using test::Exe;
 
 TEST(InspectCli, PrintsSummaryAndJson) {
   const fs::path dir = test::TempDir();

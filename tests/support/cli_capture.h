@@ -10,7 +10,8 @@
 #include <filesystem>
 #include <string>
 
-#include "test_capture.h"
+#include "support/exe.h"
+#include "support/test_capture.h"
 #include "test_util.h"
 
 namespace hdribr::test {
@@ -68,7 +69,6 @@ class SmallCaptureTest : public ::testing::Test {
     delete dir_;
     dir_ = nullptr;
   }
-  static std::string Exe() { return HDRIBR_EXE; }
   static const std::filesystem::path& Dir() { return *dir_; }
   static std::string Ws() { return (*dir_ / "workspace").string(); }
 
